@@ -1,0 +1,19 @@
+//! underlight: real-time underwater caustics and godrays after Papadopoulos & Papaioannou
+//! (2009), on a hand-written Vulkan backend.
+//!
+//! - [`vk`]: the backend, one module per Vulkan concept.
+//! - [`passes`]: the frame's passes, one module each, named by [`passes::PassId`].
+//! - [`shaders`]: GLSL → committed SPIR-V, embedded at build time.
+//! - [`shader_math`]: the Rust twin of the shared GLSL math.
+//! - [`headless`], [`image_io`]: off-screen rendering and its files.
+#![warn(unsafe_op_in_unsafe_fn)]
+
+pub mod error;
+pub mod headless;
+pub mod image_io;
+pub mod passes;
+pub mod shader_math;
+pub mod shaders;
+pub mod vk;
+
+pub use error::{Error, Result};

@@ -1,0 +1,183 @@
+//! The `underlight` command line.
+
+use anyhow::{bail, Context as _, Result};
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use underlight::headless;
+use underlight::image_io;
+use underlight::passes::grid_splat::GridSplatSettings;
+use underlight::shaders;
+use underlight::vk::{vk, Context, ContextDesc};
+
+#[derive(Parser)]
+#[command(name = "underlight", version, about = "Real-time underwater caustics and godrays (Vulkan)")]
+struct Cli {
+    /// Enable the Khronos validation layer with synchronization validation (also: UNDERLIGHT_VALIDATION=1).
+    #[arg(long, global = true)]
+    validation: bool,
+    /// Use the Vulkan device whose name contains this (also: UNDERLIGHT_DEVICE).
+    #[arg(long, global = true, value_name = "NAME")]
+    device: Option<String>,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render headless to a PNG (and optionally a PFM float dump) and print per-pass GPU times.
+    Render(RenderArgs),
+    /// Compile glsl/ into spirv/ (the committed SPIR-V the binary embeds).
+    Shaders {
+        /// Only check that spirv/ is up to date; exit 1 if not.
+        #[arg(long)]
+        check: bool,
+    },
+    /// List Vulkan devices and whether each has what underlight needs.
+    Devices,
+}
+
+#[derive(clap::Args)]
+struct RenderArgs {
+    /// Output PNG (tonemapped sRGB).
+    #[arg(long, default_value = "out/underlight.png")]
+    out: PathBuf,
+    /// Also write the HDR target as a PFM float dump.
+    #[arg(long)]
+    pfm: Option<PathBuf>,
+    #[arg(long, default_value_t = 512)]
+    width: u32,
+    #[arg(long, default_value_t = 512)]
+    height: u32,
+    /// Coarse photon grid cells per axis.
+    #[arg(long, default_value_t = 200)]
+    grid: u32,
+    /// Geometry-shader subdivision per axis (photons per cell = subdivision²).
+    #[arg(long, default_value_t = 2)]
+    subdivision: u32,
+    /// Point size in pixels.
+    #[arg(long, default_value_t = 2.0)]
+    point_size: f32,
+    /// Energy each photon adds.
+    #[arg(long, default_value_t = 0.08)]
+    energy: f32,
+    /// Displacement of the photons by the demo wave (0: a regular grid; above ~1 the
+    /// displaced photons cross and focus into caustic lines).
+    #[arg(long, default_value_t = 1.3)]
+    wave_amplitude: f32,
+    /// Frames to render (timings are the median over them).
+    #[arg(long, default_value_t = 16)]
+    frames: u32,
+    /// Animation time of the first frame, seconds.
+    #[arg(long, default_value_t = 0.0)]
+    time: f32,
+    /// Tonemap exposure.
+    #[arg(long, default_value_t = 1.0)]
+    exposure: f32,
+}
+
+fn main() {
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(code) => std::process::exit(code),
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            std::process::exit(1);
+        }
+    }
+}
+
+fn context_desc(cli: &Cli) -> ContextDesc {
+    let mut desc = ContextDesc::from_env();
+    desc.validation |= cli.validation;
+    if cli.device.is_some() {
+        desc.device_name = cli.device.clone();
+    }
+    desc
+}
+
+fn run(cli: Cli) -> Result<i32> {
+    match &cli.command {
+        Command::Shaders { check } => {
+            let (glsl, spirv) = shaders::source_dirs();
+            if *check {
+                let stale = shaders::stale_files(&glsl, &spirv)?;
+                if stale.is_empty() {
+                    println!("spirv/ is up to date");
+                    return Ok(0);
+                }
+                for s in &stale {
+                    eprintln!("stale: {s}");
+                }
+                eprintln!("run `underlight shaders` and commit spirv/");
+                return Ok(1);
+            }
+            for name in shaders::write_all(&glsl, &spirv)? {
+                println!("wrote spirv/{name}");
+            }
+            println!("rebuild to embed the new SPIR-V (cargo build)");
+            Ok(0)
+        }
+        Command::Devices => {
+            let instance = underlight::vk::instance::Instance::new(false, &[])?;
+            let devices = underlight::vk::device::enumerate(&instance)?;
+            if devices.is_empty() {
+                bail!(underlight::Error::NoDevice);
+            }
+            for d in &devices {
+                let missing = underlight::vk::features::missing_features(&d.capabilities);
+                let verdict = if missing.is_empty() { "suitable".to_string() } else { format!("lacks {}", missing.join(", ")) };
+                println!("{}: {verdict}", d.describe());
+            }
+            Ok(0)
+        }
+        Command::Render(args) => render(&cli, args),
+    }
+}
+
+fn render(cli: &Cli, args: &RenderArgs) -> Result<i32> {
+    if args.width == 0 || args.height == 0 {
+        bail!("--width and --height must be at least 1 (got {}×{})", args.width, args.height);
+    }
+    // Check the output locations before any GPU work, so a bad path fails fast.
+    for path in std::iter::once(&args.out).chain(args.pfm.as_ref()) {
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+        }
+    }
+    let ctx = Context::new(&context_desc(cli))?;
+    let settings = GridSplatSettings {
+        grid: args.grid,
+        subdivision: args.subdivision,
+        point_size: args.point_size,
+        energy: args.energy,
+        wave_amplitude: args.wave_amplitude,
+    };
+    let extent = vk::Extent2D { width: args.width, height: args.height };
+    println!("device: {}", ctx.device.info.describe());
+    println!(
+        "grid splat: {}² cells × {}² photons = {} photons, {}×{} RGBA16F target, {} frames",
+        settings.grid,
+        settings.subdivision,
+        settings.photon_count(),
+        args.width,
+        args.height,
+        args.frames
+    );
+    let (image, frame_timings) =
+        headless::render_grid_splat(&ctx.device, extent, settings, args.frames, args.time, 1.0 / 60.0)?;
+    let rgba = image_io::tonemap_srgb8(&image, args.exposure);
+    image_io::write_png(&args.out, image.width, image.height, &rgba)?;
+    println!("wrote {}", args.out.display());
+    if let Some(pfm) = &args.pfm {
+        image_io::write_pfm(pfm, &image)?;
+        println!("wrote {}", pfm.display());
+    }
+    println!("\nmedian over {} frames:\n{}", frame_timings.len(), headless::median_timings(&frame_timings));
+    let report = ctx.shutdown();
+    if !report.is_clean() {
+        eprint!("{report}");
+        eprintln!("error: Vulkan validation or leak report is not clean");
+        return Ok(2);
+    }
+    Ok(0)
+}

@@ -1,0 +1,171 @@
+//! Grid splat: the foundation's proof that the whole stack works end to end.
+//!
+//! A coarse grid of points is drawn with no vertex buffer; a geometry shader subdivides each
+//! into SUBDIVISION×SUBDIVISION photons (a specialization constant, so the loop unrolls) and
+//! emits each as a point with `gl_PointSize`; the points are added into an RGBA16F target.
+//! It is the skeleton the caustics pass grows from: same grid, same amplification, same
+//! blending, without the water and scene intersection.
+
+use crate::error::{Error, Result};
+use crate::shader_math::MAX_SUBDIVISION;
+use crate::vk::device::Device;
+use crate::vk::image::Image;
+use crate::vk::pipeline::{set_viewport, Blend, GraphicsPipelineDesc, Pipeline};
+use crate::vk::render_pass::{Attachment, Load, RenderPass};
+use ash::vk;
+use std::sync::Arc;
+
+/// Format of the accumulation target: half floats add photon energies without clamping.
+pub const TARGET_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GridSplatSettings {
+    /// Coarse cells per axis.
+    pub grid: u32,
+    /// Photons per cell per axis (geometry-shader amplification).
+    pub subdivision: u32,
+    pub point_size: f32,
+    /// Energy each photon adds to R, G and B.
+    pub energy: f32,
+    /// Demo displacement of the photons (0 puts them at sub-cell centres).
+    pub wave_amplitude: f32,
+}
+
+impl Default for GridSplatSettings {
+    fn default() -> Self {
+        // The paper's caustic grid: 200×200 cells, 2×2 photons each.
+        Self { grid: 200, subdivision: 2, point_size: 2.0, energy: 0.08, wave_amplitude: 1.3 }
+    }
+}
+
+impl GridSplatSettings {
+    pub fn photon_count(&self) -> u64 {
+        (self.grid as u64 * self.subdivision as u64).pow(2)
+    }
+
+    /// Checks the settings against the method's bounds and the device's limits.
+    pub fn validate(&self, device: &Device) -> Result<()> {
+        let limits = device.limits();
+        if self.grid == 0 || self.grid > 8192 {
+            return Err(Error::InvalidParameter { name: "grid", message: format!("{} is outside 1..=8192", self.grid) });
+        }
+        // Each photon emits gl_Position (4), gl_PointSize (1) and the energy (4).
+        const COMPONENTS_PER_PHOTON: u32 = 9;
+        let by_components = (limits.max_geometry_total_output_components / COMPONENTS_PER_PHOTON)
+            .min(limits.max_geometry_output_vertices);
+        let max_sub = MAX_SUBDIVISION.min((by_components as f64).sqrt() as u32);
+        if self.subdivision == 0 || self.subdivision > max_sub {
+            return Err(Error::InvalidParameter {
+                name: "subdivision",
+                message: format!(
+                    "{} is outside 1..={max_sub} (shader bound {MAX_SUBDIVISION}; device: {} output vertices, {} output components)",
+                    self.subdivision, limits.max_geometry_output_vertices, limits.max_geometry_total_output_components
+                ),
+            });
+        }
+        let [lo, hi] = limits.point_size_range;
+        if !(self.point_size >= lo && self.point_size <= hi) {
+            return Err(Error::InvalidParameter {
+                name: "point_size",
+                message: format!("{} is outside the device's range {lo}..={hi}", self.point_size),
+            });
+        }
+        if !self.energy.is_finite() || !self.wave_amplitude.is_finite() {
+            return Err(Error::InvalidParameter { name: "energy/wave_amplitude", message: "must be finite".into() });
+        }
+        Ok(())
+    }
+}
+
+/// Push constants; layout matches `glsl/grid_splat_params.glsl`.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct GridSplatPush {
+    pub grid: [u32; 2],
+    pub point_size: f32,
+    pub energy: f32,
+    pub wave_amplitude: f32,
+    pub time: f32,
+}
+const _: () = assert!(std::mem::size_of::<GridSplatPush>() == 24);
+
+pub struct GridSplatPass {
+    pub settings: GridSplatSettings,
+    pipeline: Pipeline,
+    render_pass: RenderPass,
+    /// Declared last: the framebuffer above refers to its view.
+    pub target: Image,
+    device: Arc<Device>,
+}
+
+impl GridSplatPass {
+    /// `final_layout` is the layout the target is left in for its reader
+    /// (TRANSFER_SRC_OPTIMAL for a read-back, SHADER_READ_ONLY_OPTIMAL for a later pass).
+    pub fn new(
+        device: &Arc<Device>,
+        extent: vk::Extent2D,
+        settings: GridSplatSettings,
+        final_layout: vk::ImageLayout,
+    ) -> Result<Self> {
+        settings.validate(device)?;
+        let target = Image::new(
+            device,
+            "grid_splat target",
+            extent,
+            TARGET_FORMAT,
+            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC | vk::ImageUsageFlags::SAMPLED,
+        )?;
+        let render_pass = RenderPass::new(
+            device,
+            "grid_splat",
+            &[Attachment { image: &target, load: Load::Clear([0.0; 4]), final_layout }],
+            None,
+        )?;
+        let pipeline = Pipeline::graphics(
+            device,
+            &GraphicsPipelineDesc {
+                name: "grid_splat",
+                vertex: "grid_splat.vert",
+                geometry: Some("grid_splat.geom"),
+                fragment: "grid_splat.frag",
+                topology: vk::PrimitiveTopology::POINT_LIST,
+                blend: Blend::Additive,
+                color_attachments: 1,
+                depth_test: false,
+                depth_write: false,
+                specialization: &[(0, settings.subdivision)],
+                push_constant_bytes: std::mem::size_of::<GridSplatPush>() as u32,
+                set_layouts: &[],
+                render_pass: render_pass.raw,
+                dynamic_line_width: false,
+            },
+        )?;
+        Ok(Self { settings, pipeline, render_pass, target, device: device.clone() })
+    }
+
+    pub fn record(&self, cmd: vk::CommandBuffer, time: f32) {
+        let s = &self.settings;
+        let push = GridSplatPush {
+            grid: [s.grid, s.grid],
+            point_size: s.point_size,
+            energy: s.energy,
+            wave_amplitude: s.wave_amplitude,
+            time,
+        };
+        let dev = &self.device.raw;
+        self.render_pass.begin(cmd);
+        set_viewport(&self.device, cmd, self.target.extent);
+        unsafe {
+            dev.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw);
+            dev.cmd_push_constants(
+                cmd,
+                self.pipeline.layout,
+                vk::ShaderStageFlags::ALL_GRAPHICS,
+                0,
+                bytemuck::bytes_of(&push),
+            );
+            dev.cmd_draw(cmd, s.grid * s.grid, 1, 0, 0);
+        }
+        self.render_pass.end(cmd);
+    }
+}

@@ -1,0 +1,131 @@
+//! 2-D images (render targets) with one view, backed by gpu-allocator, that free themselves.
+
+use super::device::Device;
+use crate::error::{Error, Result, VkResultExt};
+use ash::vk;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use gpu_allocator::MemoryLocation;
+use std::mem::ManuallyDrop;
+use std::sync::Arc;
+
+pub struct Image {
+    pub raw: vk::Image,
+    /// Null for images that are only copied to or from (no attachment or sampling usage).
+    pub view: vk::ImageView,
+    pub format: vk::Format,
+    pub extent: vk::Extent2D,
+    pub aspect: vk::ImageAspectFlags,
+    allocation: ManuallyDrop<Allocation>,
+    device: Arc<Device>,
+}
+
+impl Image {
+    pub fn new(
+        device: &Arc<Device>,
+        name: &str,
+        extent: vk::Extent2D,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+    ) -> Result<Self> {
+        let aspect = aspect_of(format);
+        let info = vk::ImageCreateInfo::default()
+            .image_type(vk::ImageType::TYPE_2D)
+            .format(format)
+            .extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 })
+            .mip_levels(1)
+            .array_layers(1)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .tiling(vk::ImageTiling::OPTIMAL)
+            .usage(usage)
+            .initial_layout(vk::ImageLayout::UNDEFINED);
+        let raw = unsafe { device.raw.create_image(&info, None) }.call("vkCreateImage")?;
+        let requirements = unsafe { device.raw.get_image_memory_requirements(raw) };
+        let allocation = device.allocator().allocate(&AllocationCreateDesc {
+            name,
+            requirements,
+            location: MemoryLocation::GpuOnly,
+            linear: false,
+            allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+        });
+        let allocation = match allocation {
+            Ok(a) => a,
+            Err(source) => {
+                unsafe { device.raw.destroy_image(raw, None) };
+                return Err(Error::Alloc { name: name.into(), source });
+            }
+        };
+        let mut image = Self {
+            raw,
+            view: vk::ImageView::null(),
+            format,
+            extent,
+            aspect,
+            allocation: ManuallyDrop::new(allocation),
+            device: device.clone(),
+        };
+        unsafe { device.raw.bind_image_memory(raw, image.allocation.memory(), image.allocation.offset()) }
+            .call("vkBindImageMemory")?;
+        device.set_name(raw, name);
+        // A view is only valid (and only needed) for images that are attached or sampled.
+        let viewable = vk::ImageUsageFlags::SAMPLED
+            | vk::ImageUsageFlags::STORAGE
+            | vk::ImageUsageFlags::COLOR_ATTACHMENT
+            | vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
+            | vk::ImageUsageFlags::INPUT_ATTACHMENT;
+        if usage.intersects(viewable) {
+            let view_info = vk::ImageViewCreateInfo::default()
+                .image(raw)
+                .view_type(vk::ImageViewType::TYPE_2D)
+                .format(format)
+                .subresource_range(image.full_range());
+            image.view = unsafe { device.raw.create_image_view(&view_info, None) }.call("vkCreateImageView")?;
+            device.set_name(image.view, &format!("{name} view"));
+        }
+        Ok(image)
+    }
+
+    pub fn full_range(&self) -> vk::ImageSubresourceRange {
+        vk::ImageSubresourceRange::default().aspect_mask(self.aspect).level_count(1).layer_count(1)
+    }
+
+    pub fn texel_count(&self) -> usize {
+        self.extent.width as usize * self.extent.height as usize
+    }
+}
+
+/// Depth formats get the depth aspect, everything else colour.
+pub fn aspect_of(format: vk::Format) -> vk::ImageAspectFlags {
+    match format {
+        vk::Format::D16_UNORM | vk::Format::D32_SFLOAT | vk::Format::X8_D24_UNORM_PACK32 => {
+            vk::ImageAspectFlags::DEPTH
+        }
+        vk::Format::D24_UNORM_S8_UINT | vk::Format::D32_SFLOAT_S8_UINT | vk::Format::D16_UNORM_S8_UINT => {
+            vk::ImageAspectFlags::DEPTH | vk::ImageAspectFlags::STENCIL
+        }
+        _ => vk::ImageAspectFlags::COLOR,
+    }
+}
+
+/// Bytes per texel of the formats underlight reads back.
+pub fn texel_size(format: vk::Format) -> Option<usize> {
+    Some(match format {
+        vk::Format::R16G16B16A16_SFLOAT => 8,
+        vk::Format::R32G32B32A32_SFLOAT => 16,
+        vk::Format::R8G8B8A8_UNORM | vk::Format::R8G8B8A8_SRGB | vk::Format::B8G8R8A8_UNORM
+        | vk::Format::B8G8R8A8_SRGB | vk::Format::R32_SFLOAT | vk::Format::D32_SFLOAT => 4,
+        vk::Format::R16_SFLOAT => 2,
+        _ => return None,
+    })
+}
+
+impl Drop for Image {
+    fn drop(&mut self) {
+        // SAFETY: the GPU no longer uses the image (see Buffer::drop); taken exactly once.
+        unsafe {
+            self.device.raw.destroy_image_view(self.view, None);
+            self.device.raw.destroy_image(self.raw, None);
+            let allocation = ManuallyDrop::take(&mut self.allocation);
+            let _ = self.device.allocator().free(allocation);
+        }
+    }
+}

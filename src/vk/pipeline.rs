@@ -1,0 +1,191 @@
+//! Shader modules and graphics pipelines.
+//!
+//! Pipelines are described by a small struct rather than a builder chain, so a pass states
+//! in one place what its pipeline does (topology, blending, depth, specialization).
+
+use super::device::Device;
+use crate::error::{Error, Result, VkResultExt};
+use crate::shaders;
+use ash::vk;
+use std::sync::Arc;
+
+/// How a pipeline writes its colour attachments.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Blend {
+    /// Replace.
+    Opaque,
+    /// dst += src, for photon splats: every photon adds its energy.
+    Additive,
+}
+
+/// Everything a pass decides about its graphics pipeline.
+pub struct GraphicsPipelineDesc<'a> {
+    pub name: &'a str,
+    /// Embedded SPIR-V names, e.g. `grid_splat.vert`; geometry is optional.
+    pub vertex: &'a str,
+    pub geometry: Option<&'a str>,
+    pub fragment: &'a str,
+    pub topology: vk::PrimitiveTopology,
+    pub blend: Blend,
+    pub color_attachments: u32,
+    pub depth_test: bool,
+    pub depth_write: bool,
+    /// Specialization constants (id, value), applied to every stage.
+    pub specialization: &'a [(u32, u32)],
+    pub push_constant_bytes: u32,
+    pub set_layouts: &'a [vk::DescriptorSetLayout],
+    pub render_pass: vk::RenderPass,
+    /// Lines drawn wider than 1 px set the width dynamically (vkCmdSetLineWidth).
+    pub dynamic_line_width: bool,
+}
+
+pub struct Pipeline {
+    pub raw: vk::Pipeline,
+    pub layout: vk::PipelineLayout,
+    device: Arc<Device>,
+}
+
+/// Creates a shader module from embedded SPIR-V.
+fn shader_module(device: &Device, name: &str) -> Result<vk::ShaderModule> {
+    let bytes = shaders::embedded(name).ok_or_else(|| Error::MissingShader(name.to_string()))?;
+    let words = shaders::spirv_words(bytes)
+        .ok_or_else(|| Error::InvalidParameter { name: "spirv", message: format!("{name} is not SPIR-V") })?;
+    let info = vk::ShaderModuleCreateInfo::default().code(&words);
+    let module = unsafe { device.raw.create_shader_module(&info, None) }.call("vkCreateShaderModule")?;
+    device.set_name(module, name);
+    Ok(module)
+}
+
+impl Pipeline {
+    pub fn graphics(device: &Arc<Device>, desc: &GraphicsPipelineDesc<'_>) -> Result<Self> {
+        let raw_dev = &device.raw;
+        let push_ranges = [vk::PushConstantRange::default()
+            .stage_flags(vk::ShaderStageFlags::ALL_GRAPHICS)
+            .size(desc.push_constant_bytes)];
+        let layout_info = vk::PipelineLayoutCreateInfo::default()
+            .set_layouts(desc.set_layouts)
+            .push_constant_ranges(if desc.push_constant_bytes > 0 { &push_ranges[..] } else { &[] });
+        let layout = unsafe { raw_dev.create_pipeline_layout(&layout_info, None) }.call("vkCreatePipelineLayout")?;
+        device.set_name(layout, &format!("{} layout", desc.name));
+        let mut pipeline = Self { raw: vk::Pipeline::null(), layout, device: device.clone() };
+
+        let mut stages_named = vec![(vk::ShaderStageFlags::VERTEX, desc.vertex)];
+        if let Some(g) = desc.geometry {
+            stages_named.push((vk::ShaderStageFlags::GEOMETRY, g));
+        }
+        stages_named.push((vk::ShaderStageFlags::FRAGMENT, desc.fragment));
+        let mut modules = Vec::new();
+        for (_, name) in &stages_named {
+            match shader_module(device, name) {
+                Ok(m) => modules.push(m),
+                Err(e) => {
+                    for m in modules {
+                        unsafe { raw_dev.destroy_shader_module(m, None) };
+                    }
+                    return Err(e);
+                }
+            }
+        }
+
+        let spec_entries: Vec<vk::SpecializationMapEntry> = desc
+            .specialization
+            .iter()
+            .enumerate()
+            .map(|(i, (id, _))| vk::SpecializationMapEntry { constant_id: *id, offset: 4 * i as u32, size: 4 })
+            .collect();
+        let spec_data: Vec<u8> = desc.specialization.iter().flat_map(|(_, v)| v.to_ne_bytes()).collect();
+        let spec = vk::SpecializationInfo::default().map_entries(&spec_entries).data(&spec_data);
+        let stages: Vec<vk::PipelineShaderStageCreateInfo> = stages_named
+            .iter()
+            .zip(&modules)
+            .map(|((stage, _), module)| {
+                vk::PipelineShaderStageCreateInfo::default()
+                    .stage(*stage)
+                    .module(*module)
+                    .name(c"main")
+                    .specialization_info(&spec)
+            })
+            .collect();
+
+        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
+        let input_assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(desc.topology);
+        let viewport = vk::PipelineViewportStateCreateInfo::default().viewport_count(1).scissor_count(1);
+        let raster = vk::PipelineRasterizationStateCreateInfo::default()
+            .polygon_mode(vk::PolygonMode::FILL)
+            .cull_mode(vk::CullModeFlags::NONE)
+            .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+            .line_width(1.0);
+        let multisample =
+            vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+            .depth_test_enable(desc.depth_test)
+            .depth_write_enable(desc.depth_write)
+            .depth_compare_op(vk::CompareOp::LESS_OR_EQUAL);
+        let attachment = match desc.blend {
+            Blend::Opaque => vk::PipelineColorBlendAttachmentState::default()
+                .color_write_mask(vk::ColorComponentFlags::RGBA),
+            Blend::Additive => vk::PipelineColorBlendAttachmentState::default()
+                .blend_enable(true)
+                .src_color_blend_factor(vk::BlendFactor::ONE)
+                .dst_color_blend_factor(vk::BlendFactor::ONE)
+                .color_blend_op(vk::BlendOp::ADD)
+                .src_alpha_blend_factor(vk::BlendFactor::ONE)
+                .dst_alpha_blend_factor(vk::BlendFactor::ONE)
+                .alpha_blend_op(vk::BlendOp::ADD)
+                .color_write_mask(vk::ColorComponentFlags::RGBA),
+        };
+        let attachments = vec![attachment; desc.color_attachments as usize];
+        let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&attachments);
+        let mut dynamic_states = vec![vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        if desc.dynamic_line_width {
+            dynamic_states.push(vk::DynamicState::LINE_WIDTH);
+        }
+        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+        let info = vk::GraphicsPipelineCreateInfo::default()
+            .stages(&stages)
+            .vertex_input_state(&vertex_input)
+            .input_assembly_state(&input_assembly)
+            .viewport_state(&viewport)
+            .rasterization_state(&raster)
+            .multisample_state(&multisample)
+            .depth_stencil_state(&depth)
+            .color_blend_state(&blend)
+            .dynamic_state(&dynamic)
+            .layout(layout)
+            .render_pass(desc.render_pass)
+            .subpass(0);
+        let created =
+            unsafe { raw_dev.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) };
+        for m in modules {
+            unsafe { raw_dev.destroy_shader_module(m, None) };
+        }
+        pipeline.raw = created.map_err(|(_, e)| e).call("vkCreateGraphicsPipelines")?[0];
+        device.set_name(pipeline.raw, desc.name);
+        Ok(pipeline)
+    }
+}
+
+impl Drop for Pipeline {
+    fn drop(&mut self) {
+        unsafe {
+            self.device.raw.destroy_pipeline(self.raw, None);
+            self.device.raw.destroy_pipeline_layout(self.layout, None);
+        }
+    }
+}
+
+/// Sets a full-target viewport and scissor (both are dynamic state in every pipeline).
+pub fn set_viewport(device: &Device, cmd: vk::CommandBuffer, extent: vk::Extent2D) {
+    let viewport = vk::Viewport {
+        x: 0.0,
+        y: 0.0,
+        width: extent.width as f32,
+        height: extent.height as f32,
+        min_depth: 0.0,
+        max_depth: 1.0,
+    };
+    unsafe {
+        device.raw.cmd_set_viewport(cmd, 0, &[viewport]);
+        device.raw.cmd_set_scissor(cmd, 0, &[vk::Rect2D { offset: vk::Offset2D::default(), extent }]);
+    }
+}

@@ -1,0 +1,99 @@
+//! Copying a render target into host memory, for headless output and tests.
+//!
+//! The staging buffer is made once per target; recording the copy adds no allocation and
+//! no wait. Reading it is the caller's job once the frame's fence has signalled.
+
+use super::buffer::Buffer;
+use super::device::Device;
+use super::image::{texel_size, Image};
+use crate::error::{Error, Result};
+use crate::image_io::HdrImage;
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+use std::sync::Arc;
+
+pub struct Readback {
+    buffer: Buffer,
+    extent: vk::Extent2D,
+    format: vk::Format,
+    device: Arc<Device>,
+}
+
+impl Readback {
+    pub fn new(device: &Arc<Device>, image: &Image) -> Result<Self> {
+        let texel = texel_size(image.format).ok_or_else(|| Error::InvalidParameter {
+            name: "readback format",
+            message: format!("{:?} cannot be read back", image.format),
+        })?;
+        let size = (image.texel_count() * texel) as vk::DeviceSize;
+        let buffer = Buffer::new(
+            device,
+            "readback staging",
+            size,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        Ok(Self { buffer, extent: image.extent, format: image.format, device: device.clone() })
+    }
+
+    /// Records the copy of `image` (in TRANSFER_SRC_OPTIMAL, after a pass whose outgoing
+    /// dependency covers transfers) and makes it visible to the host.
+    pub fn record(&self, cmd: vk::CommandBuffer, image: &Image) {
+        let region = vk::BufferImageCopy::default()
+            .image_subresource(vk::ImageSubresourceLayers::default().aspect_mask(image.aspect).layer_count(1))
+            .image_extent(vk::Extent3D { width: image.extent.width, height: image.extent.height, depth: 1 });
+        let to_host = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::COPY)
+            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+            .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+        unsafe {
+            self.device.raw.cmd_copy_image_to_buffer(
+                cmd,
+                image.raw,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                self.buffer.raw,
+                &[region],
+            );
+            self.device
+                .raw
+                .cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&to_host));
+        }
+    }
+
+    /// Decodes the copied texels to linear RGBA f32. Call after the copy's fence signalled.
+    pub fn read(&self) -> Result<HdrImage> {
+        let bytes = self.buffer.mapped().ok_or_else(|| Error::InvalidParameter {
+            name: "readback",
+            message: "staging buffer is not host-visible".into(),
+        })?;
+        let (w, h) = (self.extent.width, self.extent.height);
+        let pixels: Vec<[f32; 4]> = match self.format {
+            vk::Format::R16G16B16A16_SFLOAT => bytes
+                .chunks_exact(8)
+                .map(|t| {
+                    let c = |i: usize| half::f16::from_le_bytes([t[2 * i], t[2 * i + 1]]).to_f32();
+                    [c(0), c(1), c(2), c(3)]
+                })
+                .collect(),
+            vk::Format::R32G32B32A32_SFLOAT => bytes
+                .chunks_exact(16)
+                .map(|t| {
+                    let c = |i: usize| f32::from_le_bytes([t[4 * i], t[4 * i + 1], t[4 * i + 2], t[4 * i + 3]]);
+                    [c(0), c(1), c(2), c(3)]
+                })
+                .collect(),
+            vk::Format::R32_SFLOAT | vk::Format::D32_SFLOAT => bytes
+                .chunks_exact(4)
+                .map(|t| {
+                    let v = f32::from_le_bytes([t[0], t[1], t[2], t[3]]);
+                    [v, v, v, 1.0]
+                })
+                .collect(),
+            other => {
+                return Err(Error::InvalidParameter { name: "readback format", message: format!("{other:?}") })
+            }
+        };
+        Ok(HdrImage { width: w, height: h, pixels })
+    }
+}

@@ -1,0 +1,147 @@
+//! Render passes with their framebuffer. Each pass of the frame owns one (the method is
+//! described pass by pass, and a classic VkRenderPass states each pass's attachments, load
+//! operations and layouts explicitly).
+
+use super::device::Device;
+use super::image::Image;
+use crate::error::{Result, VkResultExt};
+use ash::vk;
+use std::sync::Arc;
+
+/// What happens to an attachment's contents when the pass begins.
+#[derive(Clone, Copy, Debug)]
+pub enum Load {
+    /// Cleared to this value (colour: RGBA; depth: the first component).
+    Clear([f32; 4]),
+    /// Kept; the image is in `layout` when the pass begins.
+    Keep { layout: vk::ImageLayout },
+}
+
+pub struct Attachment<'a> {
+    pub image: &'a Image,
+    pub load: Load,
+    /// Layout the pass leaves the image in, chosen for its next use.
+    pub final_layout: vk::ImageLayout,
+}
+
+pub struct RenderPass {
+    pub raw: vk::RenderPass,
+    pub framebuffer: vk::Framebuffer,
+    pub extent: vk::Extent2D,
+    clear_values: Vec<vk::ClearValue>,
+    device: Arc<Device>,
+}
+
+impl RenderPass {
+    /// One subpass writing `colors` (and `depth`, if any). All attachments must share an extent.
+    pub fn new(device: &Arc<Device>, name: &str, colors: &[Attachment<'_>], depth: Option<&Attachment<'_>>) -> Result<Self> {
+        let mut descs = Vec::new();
+        let mut clear_values = Vec::new();
+        let mut push = |a: &Attachment<'_>, is_depth: bool| {
+            let (load_op, initial, clear) = match a.load {
+                Load::Clear(c) => (vk::AttachmentLoadOp::CLEAR, vk::ImageLayout::UNDEFINED, c),
+                Load::Keep { layout } => (vk::AttachmentLoadOp::LOAD, layout, [0.0; 4]),
+            };
+            descs.push(
+                vk::AttachmentDescription::default()
+                    .format(a.image.format)
+                    .samples(vk::SampleCountFlags::TYPE_1)
+                    .load_op(load_op)
+                    .store_op(vk::AttachmentStoreOp::STORE)
+                    .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
+                    .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
+                    .initial_layout(initial)
+                    .final_layout(a.final_layout),
+            );
+            clear_values.push(if is_depth {
+                vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: clear[0], stencil: 0 } }
+            } else {
+                vk::ClearValue { color: vk::ClearColorValue { float32: clear } }
+            });
+        };
+        for c in colors {
+            push(c, false);
+        }
+        if let Some(d) = depth {
+            push(d, true);
+        }
+        let color_refs: Vec<vk::AttachmentReference> = (0..colors.len() as u32)
+            .map(|i| vk::AttachmentReference { attachment: i, layout: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL })
+            .collect();
+        let depth_ref = vk::AttachmentReference {
+            attachment: colors.len() as u32,
+            layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+        };
+        let mut subpass = vk::SubpassDescription::default()
+            .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
+            .color_attachments(&color_refs);
+        if depth.is_some() {
+            subpass = subpass.depth_stencil_attachment(&depth_ref);
+        }
+        // Full memory dependencies with whatever comes before and after the pass. The frame
+        // has a handful of passes, so precise per-resource barriers would buy little and make
+        // each pass depend on its neighbours' internals; these are correct for any order.
+        let all_rw = vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE;
+        let dependencies = [
+            vk::SubpassDependency {
+                src_subpass: vk::SUBPASS_EXTERNAL,
+                dst_subpass: 0,
+                src_stage_mask: vk::PipelineStageFlags::ALL_COMMANDS,
+                dst_stage_mask: vk::PipelineStageFlags::ALL_GRAPHICS,
+                src_access_mask: vk::AccessFlags::MEMORY_WRITE,
+                dst_access_mask: all_rw,
+                dependency_flags: vk::DependencyFlags::empty(),
+            },
+            vk::SubpassDependency {
+                src_subpass: 0,
+                dst_subpass: vk::SUBPASS_EXTERNAL,
+                src_stage_mask: vk::PipelineStageFlags::ALL_GRAPHICS,
+                dst_stage_mask: vk::PipelineStageFlags::ALL_COMMANDS,
+                src_access_mask: vk::AccessFlags::MEMORY_WRITE,
+                dst_access_mask: all_rw,
+                dependency_flags: vk::DependencyFlags::empty(),
+            },
+        ];
+        let subpasses = [subpass];
+        let info = vk::RenderPassCreateInfo::default()
+            .attachments(&descs)
+            .subpasses(&subpasses)
+            .dependencies(&dependencies);
+        let raw = unsafe { device.raw.create_render_pass(&info, None) }.call("vkCreateRenderPass")?;
+        device.set_name(raw, name);
+        let extent = colors.first().or(depth).map(|a| a.image.extent).unwrap_or_default();
+        let mut pass = Self { raw, framebuffer: vk::Framebuffer::null(), extent, clear_values, device: device.clone() };
+        let views: Vec<vk::ImageView> = colors.iter().chain(depth).map(|a| a.image.view).collect();
+        let fb_info = vk::FramebufferCreateInfo::default()
+            .render_pass(raw)
+            .attachments(&views)
+            .width(extent.width)
+            .height(extent.height)
+            .layers(1);
+        pass.framebuffer = unsafe { device.raw.create_framebuffer(&fb_info, None) }.call("vkCreateFramebuffer")?;
+        device.set_name(pass.framebuffer, &format!("{name} framebuffer"));
+        Ok(pass)
+    }
+
+    pub fn begin(&self, cmd: vk::CommandBuffer) {
+        let info = vk::RenderPassBeginInfo::default()
+            .render_pass(self.raw)
+            .framebuffer(self.framebuffer)
+            .render_area(vk::Rect2D { offset: vk::Offset2D::default(), extent: self.extent })
+            .clear_values(&self.clear_values);
+        unsafe { self.device.raw.cmd_begin_render_pass(cmd, &info, vk::SubpassContents::INLINE) };
+    }
+
+    pub fn end(&self, cmd: vk::CommandBuffer) {
+        unsafe { self.device.raw.cmd_end_render_pass(cmd) };
+    }
+}
+
+impl Drop for RenderPass {
+    fn drop(&mut self) {
+        unsafe {
+            self.device.raw.destroy_framebuffer(self.framebuffer, None);
+            self.device.raw.destroy_render_pass(self.raw, None);
+        }
+    }
+}

@@ -1,0 +1,77 @@
+//! The committed SPIR-V is what the GLSL compiles to, is valid, and is what the binary embeds.
+
+use std::path::Path;
+use std::process::Command;
+use underlight::shaders;
+
+#[test]
+fn committed_spirv_is_fresh() {
+    let (glsl, spirv) = shaders::source_dirs();
+    let stale = shaders::stale_files(&glsl, &spirv).unwrap();
+    assert!(stale.is_empty(), "spirv/ is stale — run `underlight shaders` and commit:\n{}", stale.join("\n"));
+}
+
+#[test]
+fn freshness_check_fails_when_a_source_changes() {
+    // Copy glsl/ aside, change what one shader computes, and check against the committed SPIR-V.
+    let (glsl, spirv) = shaders::source_dirs();
+    let scratch = std::env::temp_dir().join(format!("underlight-glsl-{}", std::process::id()));
+    std::fs::create_dir_all(&scratch).unwrap();
+    for entry in std::fs::read_dir(&glsl).unwrap() {
+        let p = entry.unwrap().path();
+        std::fs::copy(&p, scratch.join(p.file_name().unwrap())).unwrap();
+    }
+    let frag = scratch.join("grid_splat.frag");
+    let source = std::fs::read_to_string(&frag).unwrap();
+    let changed = source.replace("out_color = g_energy;", "out_color = 2.0 * g_energy;");
+    assert_ne!(source, changed, "the edit must apply");
+    std::fs::write(&frag, changed).unwrap();
+    // A new stage with no committed SPIR-V is stale too.
+    std::fs::write(scratch.join("extra.frag"), "#version 450\nvoid main() {}\n").unwrap();
+    let stale = shaders::stale_files(&scratch, &spirv).unwrap();
+    std::fs::remove_dir_all(&scratch).ok();
+    assert!(stale.iter().any(|s| s.contains("grid_splat.frag.spv") && s.contains("differs")), "{stale:?}");
+    assert!(stale.iter().any(|s| s.contains("extra.frag.spv") && s.contains("missing")), "{stale:?}");
+    // And SPIR-V whose source is gone is reported as an orphan.
+    let empty = std::env::temp_dir().join(format!("underlight-glsl-empty-{}", std::process::id()));
+    std::fs::create_dir_all(&empty).unwrap();
+    let orphans = shaders::stale_files(&empty, &spirv).unwrap();
+    std::fs::remove_dir_all(&empty).ok();
+    assert_eq!(orphans.len(), shaders::spirv_files(&spirv).unwrap().len(), "{orphans:?}");
+}
+
+#[test]
+fn every_spirv_passes_spirv_val() {
+    let (_, spirv) = shaders::source_dirs();
+    let files = shaders::spirv_files(&spirv).unwrap();
+    assert!(!files.is_empty());
+    for file in files {
+        let out = Command::new("spirv-val")
+            .args(["--target-env", "vulkan1.2"])
+            .arg(&file)
+            .output()
+            .unwrap_or_else(|e| panic!("cannot run spirv-val ({e}); install it with: apt-get install spirv-tools"));
+        assert!(
+            out.status.success(),
+            "spirv-val rejects {}:\n{}{}",
+            file.display(),
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}
+
+#[test]
+fn binary_embeds_exactly_the_committed_spirv() {
+    let (_, spirv) = shaders::source_dirs();
+    let files = shaders::spirv_files(&spirv).unwrap();
+    assert_eq!(files.len(), shaders::EMBEDDED_SPIRV.len());
+    for file in files {
+        let name = file.file_name().unwrap().to_string_lossy();
+        let stem = name.trim_end_matches(".spv");
+        let embedded = shaders::embedded(stem).unwrap_or_else(|| panic!("{name} is not embedded"));
+        assert_eq!(embedded, std::fs::read(&file).unwrap().as_slice(), "{name} embedded copy differs");
+        assert!(shaders::spirv_words(embedded).is_some(), "{name} is not SPIR-V");
+    }
+    assert!(Path::new(&spirv).is_dir());
+}
