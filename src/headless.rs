@@ -1,6 +1,8 @@
 //! Headless rendering: frames into an off-screen target, the last one read back.
 
 use crate::error::Result;
+use crate::frame::Frame;
+use crate::scene::Scene;
 use crate::image_io::HdrImage;
 use crate::passes::grid_splat::{GridSplatPass, GridSplatSettings};
 use crate::passes::PassId;
@@ -72,6 +74,99 @@ impl GridSplatRenderer {
         self.ring.finish(|_, t| timings.push(t.clone()))?;
         let image = if read_back && frames > 0 { Some(self.readback.read()?) } else { None };
         Ok((timings, image))
+    }
+}
+
+/// What a headless render of a scene reads back from its last frame.
+pub struct SceneImages {
+    /// The tonemapped output, 8-bit sRGB RGBA, rows from the top.
+    pub output: Vec<u8>,
+    pub width: u32,
+    pub height: u32,
+    /// HDR scene colour (radiance, W/(m²·sr)).
+    pub scene_color: HdrImage,
+    /// albedo/π × water transmittance to the camera, per output pixel.
+    pub albedo_transmittance: HdrImage,
+    /// Caustic irradiance (W/m²) at the caustic target's size, when the frame has caustics.
+    pub caustics: Option<HdrImage>,
+}
+
+/// A scene's frame with its ring of frames in flight and read-backs, kept alive across
+/// renders so benchmarks time frames, not set-up.
+pub struct SceneRenderer {
+    pub frame: Frame,
+    ring: FrameRing,
+    output: Readback,
+    scene_color: Readback,
+    albedo_transmittance: Readback,
+    caustics: Option<Readback>,
+}
+
+impl SceneRenderer {
+    pub fn new(device: &Arc<Device>, scene: &Scene, output: vk::Extent2D) -> Result<Self> {
+        let frame = Frame::new(device, scene, output, vk::ImageLayout::TRANSFER_SRC_OPTIMAL)?;
+        let ring = FrameRing::new(device)?;
+        let output = Readback::new(device, &frame.compose.output)?;
+        let scene_color = Readback::new(device, &frame.scene_pass.color)?;
+        let albedo_transmittance = Readback::new(device, &frame.scene_pass.albedo_transmittance)?;
+        let caustics = frame.caustics.as_ref().map(|c| Readback::new(device, &c.target)).transpose()?;
+        Ok(Self { frame, ring, output, scene_color, albedo_transmittance, caustics })
+    }
+
+    /// Renders `frames` frames at times `t0 + k·dt`; with `read_back`, the last frame's
+    /// targets are copied to the host and returned.
+    pub fn render(&mut self, frames: u32, t0: f32, dt: f32, read_back: bool) -> Result<(Vec<PassTimings>, Option<SceneImages>)> {
+        let mut timings = Vec::with_capacity(frames as usize);
+        for f in 0..frames {
+            let time = t0 + dt * f as f32;
+            let slot = self.ring.begin()?;
+            self.frame.record(slot, time);
+            if read_back && f + 1 == frames {
+                let cmd = slot.cmd;
+                let frame = &self.frame;
+                let (out, sc, at, ca) = (&self.output, &self.scene_color, &self.albedo_transmittance, &self.caustics);
+                slot.timer.pass(cmd, PassId::Readback, |cmd| {
+                    let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+                    out.record(cmd, &frame.compose.output);
+                    sc.record_from(cmd, &frame.scene_pass.color, read);
+                    at.record_from(cmd, &frame.scene_pass.albedo_transmittance, read);
+                    if let (Some(rb), Some(c)) = (ca, &frame.caustics) {
+                        rb.record_from(cmd, &c.target, read);
+                    }
+                });
+            }
+            self.ring.submit(&[], &[])?;
+            if let Some((_, t)) = self.ring.take_fresh_timings() {
+                timings.push(t.clone());
+            }
+        }
+        self.ring.finish(|_, t| timings.push(t.clone()))?;
+        if !(read_back && frames > 0) {
+            return Ok((timings, None));
+        }
+        let e = self.frame.compose.output.extent;
+        let images = SceneImages {
+            output: self.output.bytes().to_vec(),
+            width: e.width,
+            height: e.height,
+            scene_color: self.scene_color.read()?,
+            albedo_transmittance: self.albedo_transmittance.read()?,
+            caustics: match &self.caustics {
+                // The buffer stores irradiance relative to E_surface; report W/m².
+                Some(r) => {
+                    let mut img = r.read()?;
+                    let e = crate::frame::uniforms::surface_irradiance(self.frame.scene());
+                    for p in &mut img.pixels {
+                        for c in &mut p[..3] {
+                            *c *= e;
+                        }
+                    }
+                    Some(img)
+                }
+                None => None,
+            },
+        };
+        Ok((timings, Some(images)))
     }
 }
 

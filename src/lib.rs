@@ -9,9 +9,11 @@
 #![warn(unsafe_op_in_unsafe_fn)]
 
 pub mod error;
+pub mod frame;
 pub mod headless;
 pub mod image_io;
 pub mod passes;
+pub mod scene;
 pub mod shader_math;
 pub mod shaders;
 pub mod vk;

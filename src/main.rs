@@ -24,8 +24,10 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Render headless to a PNG (and optionally a PFM float dump) and print per-pass GPU times.
-    Render(RenderArgs),
+    /// Render a scene headless to a PNG (and HDR float dumps) and print per-pass GPU times.
+    Render(SceneArgs),
+    /// The foundation's demo: a geometry-shader photon grid splatted into a float target.
+    GridSplat(RenderArgs),
     /// Compile glsl/ into spirv/ (the committed SPIR-V the binary embeds).
     Shaders {
         /// Only check that spirv/ is up to date; exit 1 if not.
@@ -37,9 +39,36 @@ enum Command {
 }
 
 #[derive(clap::Args)]
-struct RenderArgs {
+struct SceneArgs {
+    /// A built-in scene (tank, port, storage) or a path to a scene .toml file.
+    #[arg(long, default_value = "tank")]
+    scene: String,
     /// Output PNG (tonemapped sRGB).
     #[arg(long, default_value = "out/underlight.png")]
+    out: PathBuf,
+    /// Also write the HDR targets (scene colour, caustic irradiance, …) as PFM into this folder.
+    #[arg(long, value_name = "DIR")]
+    hdr: Option<PathBuf>,
+    /// Output size; defaults to the scene's.
+    #[arg(long)]
+    width: Option<u32>,
+    #[arg(long)]
+    height: Option<u32>,
+    /// Frames to render (timings are the median over them).
+    #[arg(long, default_value_t = 8)]
+    frames: u32,
+    /// Animation time of the first frame, seconds.
+    #[arg(long, default_value_t = 1.0)]
+    time: f32,
+    /// Print which passes the scene needs and why, then render.
+    #[arg(long)]
+    explain: bool,
+}
+
+#[derive(clap::Args)]
+struct RenderArgs {
+    /// Output PNG (tonemapped sRGB).
+    #[arg(long, default_value = "out/grid_splat.png")]
     out: PathBuf,
     /// Also write the HDR target as a PFM float dump.
     #[arg(long)]
@@ -130,20 +159,87 @@ fn run(cli: Cli) -> Result<i32> {
             }
             Ok(0)
         }
-        Command::Render(args) => render(&cli, args),
+        Command::Render(args) => render_scene(&cli, args),
+        Command::GridSplat(args) => grid_splat(&cli, args),
     }
 }
 
-fn render(cli: &Cli, args: &RenderArgs) -> Result<i32> {
-    if args.width == 0 || args.height == 0 {
-        bail!("--width and --height must be at least 1 (got {}×{})", args.width, args.height);
-    }
-    // Check the output locations before any GPU work, so a bad path fails fast.
-    for path in std::iter::once(&args.out).chain(args.pfm.as_ref()) {
+/// Creates the parent folder of each output path up front, so a bad path fails before any
+/// GPU work.
+fn prepare_outputs<'a>(paths: impl IntoIterator<Item = &'a PathBuf>) -> Result<()> {
+    for path in paths {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
         }
     }
+    Ok(())
+}
+
+fn finish(ctx: Context) -> i32 {
+    let report = ctx.shutdown();
+    if report.is_clean() {
+        return 0;
+    }
+    eprint!("{report}");
+    eprintln!("error: Vulkan validation or leak report is not clean");
+    2
+}
+
+fn render_scene(cli: &Cli, args: &SceneArgs) -> Result<i32> {
+    let scene = underlight::scene::load(&args.scene)?;
+    let width = args.width.unwrap_or(scene.output[0]);
+    let height = args.height.unwrap_or(scene.output[1]);
+    if width == 0 || height == 0 {
+        bail!("--width and --height must be at least 1 (got {width}×{height})");
+    }
+    prepare_outputs([&args.out])?;
+    if let Some(dir) = &args.hdr {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
+    let plan = underlight::frame::FramePlan::for_scene(&scene);
+    if args.explain {
+        println!("passes for scene {:?}:\n{plan}", scene.name);
+    }
+    let ctx = Context::new(&context_desc(cli))?;
+    println!("device: {}", ctx.device.info.describe());
+    let extent = vk::Extent2D { width, height };
+    let (timings, images) = {
+        let mut renderer = headless::SceneRenderer::new(&ctx.device, &scene, extent)?;
+        let e = renderer.frame.extents;
+        println!(
+            "scene {:?}: {width}×{height}; caustics {}² × {}² photons into {}×{}; light maps {}²",
+            scene.name,
+            scene.effects.caustic_grid,
+            scene.effects.caustic_subdivision,
+            e.caustic[0],
+            e.caustic[1],
+            e.light_map
+        );
+        renderer.render(args.frames.max(1), args.time, 1.0 / 60.0, true)?
+    };
+    let images = images.expect("read back requested");
+    image_io::write_png(&args.out, images.width, images.height, &images.output)?;
+    println!("wrote {}", args.out.display());
+    if let Some(dir) = &args.hdr {
+        let mut dumps = vec![("scene_color", &images.scene_color), ("albedo_transmittance", &images.albedo_transmittance)];
+        if let Some(c) = &images.caustics {
+            dumps.push(("caustics", c));
+        }
+        for (name, img) in dumps {
+            let path = dir.join(format!("{name}.pfm"));
+            image_io::write_pfm(&path, img)?;
+            println!("wrote {}", path.display());
+        }
+    }
+    println!("\nmedian over {} frames:\n{}", timings.len(), headless::median_timings(&timings));
+    Ok(finish(ctx))
+}
+
+fn grid_splat(cli: &Cli, args: &RenderArgs) -> Result<i32> {
+    if args.width == 0 || args.height == 0 {
+        bail!("--width and --height must be at least 1 (got {}×{})", args.width, args.height);
+    }
+    prepare_outputs(std::iter::once(&args.out).chain(args.pfm.as_ref()))?;
     let ctx = Context::new(&context_desc(cli))?;
     let settings = GridSplatSettings {
         grid: args.grid,
@@ -173,11 +269,5 @@ fn render(cli: &Cli, args: &RenderArgs) -> Result<i32> {
         println!("wrote {}", pfm.display());
     }
     println!("\nmedian over {} frames:\n{}", frame_timings.len(), headless::median_timings(&frame_timings));
-    let report = ctx.shutdown();
-    if !report.is_clean() {
-        eprint!("{report}");
-        eprintln!("error: Vulkan validation or leak report is not clean");
-        return Ok(2);
-    }
-    Ok(0)
+    Ok(finish(ctx))
 }

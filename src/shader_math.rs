@@ -1,7 +1,7 @@
 //! Rust twin of `glsl/common.glsl`: the same formulas, for CPU tests and (later) the
 //! reference renderer. Change both together.
 
-use glam::{UVec2, Vec2};
+use glam::{UVec2, Vec2, Vec3, Vec3Swizzles};
 use std::f32::consts::PI;
 
 /// Largest per-axis photon subdivision one geometry-shader invocation emits (GLSL
@@ -20,9 +20,325 @@ pub fn demo_wave_gradient(uv: Vec2, t: f32) -> Vec2 {
     k1 * (k1.dot(uv) + 1.3 * t).cos() / k1.dot(k1) + k2 * (k2.dot(uv) + 0.9 * t).cos() / k2.dot(k2)
 }
 
+// ---------------------------------------------------------------------------------------
+// Water surface (GLSL: common.glsl, "Water surface").
+
+/// GLSL `WATER_CIRCULAR_COSINE` / `WATER_AXIS_COSINE_NOISE`.
+pub const WATER_CIRCULAR_COSINE: i32 = 0;
+pub const WATER_AXIS_COSINE_NOISE: i32 = 1;
+
+/// GLSL `WaterParams`, as the frame uniforms carry it (std140: see `gpu::FrameUniforms`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WaterParams {
+    pub model: i32,
+    pub level: f32,
+    pub amplitude: f32,
+    pub wavelength: f32,
+    pub speed: f32,
+    pub noise_amplitude: f32,
+    pub noise_scale: f32,
+    pub ior: f32,
+    pub center: Vec2,
+    pub extent_min: Vec2,
+    pub extent_max: Vec2,
+}
+
+impl WaterParams {
+    pub fn from_scene(w: &crate::scene::Water) -> Self {
+        Self {
+            model: match w.model {
+                crate::scene::WaterModel::CircularCosine => WATER_CIRCULAR_COSINE,
+                crate::scene::WaterModel::AxisCosineNoise => WATER_AXIS_COSINE_NOISE,
+            },
+            level: w.level,
+            amplitude: w.amplitude,
+            wavelength: w.wavelength,
+            speed: w.speed,
+            noise_amplitude: w.noise_amplitude,
+            noise_scale: w.noise_scale,
+            ior: w.ior,
+            center: w.center,
+            extent_min: w.extent_min,
+            extent_max: w.extent_max,
+        }
+    }
+}
+
+/// The tileable noise texture: (value, d/du, d/dv) per texel, rows from v = 0. The same
+/// data is uploaded to the GPU, so both sides sample identical texels.
+#[derive(Clone, Debug)]
+pub struct NoiseTexture {
+    pub size: u32,
+    pub texels: Vec<[f32; 4]>,
+}
+
+/// Side of the noise texture, texels.
+pub const NOISE_SIZE: u32 = 128;
+
+impl NoiseTexture {
+    /// Three octaves of periodic gradient noise (Perlin's improved noise: quintic fade,
+    /// hashed gradients) with analytic derivatives, values roughly in [-1, 1].
+    pub fn generate() -> Self {
+        let size = NOISE_SIZE;
+        let mut texels = Vec::with_capacity((size * size) as usize);
+        for j in 0..size {
+            for i in 0..size {
+                let uv = Vec2::new((i as f32 + 0.5) / size as f32, (j as f32 + 0.5) / size as f32);
+                let mut v = 0.0;
+                let mut g = Vec2::ZERO;
+                for (octave, (cells, weight)) in [(8u32, 0.6f32), (16, 0.3), (32, 0.15)].into_iter().enumerate() {
+                    let (n, dn) = periodic_gradient_noise(uv * cells as f32, cells, octave as u32);
+                    v += weight * n;
+                    g += weight * dn * cells as f32;
+                }
+                texels.push([v, g.x, g.y, 0.0]);
+            }
+        }
+        Self { size, texels }
+    }
+
+    fn texel(&self, x: i32, y: i32) -> Vec3 {
+        let n = self.size as i32;
+        let (x, y) = (x.rem_euclid(n), y.rem_euclid(n));
+        let t = self.texels[(y * n + x) as usize];
+        Vec3::new(t[0], t[1], t[2])
+    }
+
+    /// GLSL `sample_noise`: bilinear with wrap-around, texel centres at (i + 0.5)/size.
+    pub fn sample(&self, uv: Vec2) -> Vec3 {
+        let p = (uv - uv.floor()) * self.size as f32 - 0.5;
+        let f = p - p.floor();
+        let (x0, y0) = (p.x.floor() as i32, p.y.floor() as i32);
+        let bottom = self.texel(x0, y0).lerp(self.texel(x0 + 1, y0), f.x);
+        let top = self.texel(x0, y0 + 1).lerp(self.texel(x0 + 1, y0 + 1), f.x);
+        bottom.lerp(top, f.y)
+    }
+}
+
+/// Hash of a lattice point to one of 8 unit gradients.
+fn lattice_gradient(x: u32, y: u32, seed: u32) -> Vec2 {
+    let mut h = x.wrapping_mul(0x8da6_b343) ^ y.wrapping_mul(0xd816_3841) ^ seed.wrapping_mul(0xcb1a_b31f);
+    h ^= h >> 13;
+    h = h.wrapping_mul(0x5bd1_e995);
+    h ^= h >> 15;
+    let a = (h % 8) as f32 * std::f32::consts::FRAC_PI_4 + 0.3927;
+    Vec2::new(a.cos(), a.sin())
+}
+
+/// Gradient noise at `p` on a lattice that repeats every `period` cells; returns the value
+/// and its gradient with respect to `p`.
+fn periodic_gradient_noise(p: Vec2, period: u32, seed: u32) -> (f32, Vec2) {
+    let cell = p.floor();
+    let f = p - cell;
+    let (cx, cy) = (cell.x as i64, cell.y as i64);
+    let wrap = |c: i64| c.rem_euclid(period as i64) as u32;
+    let fade = |t: f32| t * t * t * (t * (t * 6.0 - 15.0) + 10.0);
+    let dfade = |t: f32| 30.0 * t * t * (t * (t - 2.0) + 1.0);
+    let corner = |dx: i64, dy: i64| {
+        let g = lattice_gradient(wrap(cx + dx), wrap(cy + dy), seed);
+        let d = f - Vec2::new(dx as f32, dy as f32);
+        (g.dot(d), g)
+    };
+    let (v00, g00) = corner(0, 0);
+    let (v10, g10) = corner(1, 0);
+    let (v01, g01) = corner(0, 1);
+    let (v11, g11) = corner(1, 1);
+    let (u, v) = (fade(f.x), fade(f.y));
+    let (du, dv) = (dfade(f.x), dfade(f.y));
+    let value = v00 + u * (v10 - v00) + v * (v01 - v00) + u * v * (v00 - v10 - v01 + v11);
+    let grad = g00
+        + u * (g10 - g00)
+        + v * (g01 - g00)
+        + u * v * (g00 - g10 - g01 + g11)
+        + Vec2::new(du * (v10 - v00 + v * (v00 - v10 - v01 + v11)), dv * (v01 - v00 + u * (v00 - v10 - v01 + v11)));
+    // Scaled so the value spans about [-1, 1] (2-D gradient noise peaks near ±0.7).
+    (value * 1.4, grad * 1.4)
+}
+
+/// GLSL `water_noise_uv`.
+pub fn water_noise_uv(w: &WaterParams, xz: Vec2, t: f32) -> Vec2 {
+    xz / w.noise_scale + Vec2::new(0.6, 0.8) * (w.speed * t / w.noise_scale)
+}
+
+/// GLSL `water_height_grad`: (height above the mean plane, dh/dx, dh/dz).
+pub fn water_height_grad(w: &WaterParams, noise: &NoiseTexture, xz: Vec2, t: f32) -> Vec3 {
+    let k = 2.0 * PI / w.wavelength;
+    let phase_t = glsl_mod(k * w.speed * t, 2.0 * PI);
+    let mut hg = if w.model == WATER_CIRCULAR_COSINE {
+        let d = xz - w.center;
+        let r = d.length();
+        let ph = k * r - phase_t;
+        let dir = if r > 1e-6 { d / r } else { Vec2::ZERO };
+        let g = -w.amplitude * k * ph.sin() * dir;
+        Vec3::new(w.amplitude * ph.cos(), g.x, g.y)
+    } else {
+        let ph = k * xz.x - phase_t;
+        Vec3::new(w.amplitude * ph.cos(), -w.amplitude * k * ph.sin(), 0.0)
+    };
+    let n = noise.sample(water_noise_uv(w, xz, t));
+    hg.x += w.noise_amplitude * n.x;
+    let s = w.noise_amplitude / w.noise_scale;
+    hg.y += s * n.y;
+    hg.z += s * n.z;
+    hg
+}
+
+/// GLSL `mod` (x − y·floor(x/y)), which differs from Rust's `%` for negative x.
+pub fn glsl_mod(x: f32, y: f32) -> f32 {
+    x - y * (x / y).floor()
+}
+
+/// GLSL `water_normal_from_grad`.
+pub fn water_normal_from_grad(grad: Vec2) -> Vec3 {
+    Vec3::new(-grad.x, 1.0, -grad.y).normalize()
+}
+
+/// GLSL `water_covers`.
+pub fn water_covers(w: &WaterParams, xz: Vec2) -> bool {
+    xz.cmpge(w.extent_min).all() && xz.cmple(w.extent_max).all()
+}
+
+/// GLSL `water_intersect`: ray parameter of the hit with the surface, negative for none.
+pub fn water_intersect(w: &WaterParams, noise: &NoiseTexture, o: Vec3, d: Vec3, time: f32) -> f32 {
+    if d.y >= -1e-6 {
+        return -1.0;
+    }
+    let mut t = (w.level - o.y) / d.y;
+    for _ in 0..4 {
+        let p = o + t * d;
+        let h = water_height_grad(w, noise, p.xz(), time).x;
+        t = (w.level + h - o.y) / d.y;
+    }
+    t
+}
+
+/// GLSL `refract(i, n, eta)`: zero vector on total internal reflection.
+pub fn refract(i: Vec3, n: Vec3, eta: f32) -> Vec3 {
+    let k = 1.0 - eta * eta * (1.0 - n.dot(i) * n.dot(i));
+    if k < 0.0 {
+        Vec3::ZERO
+    } else {
+        eta * i - (eta * n.dot(i) + k.sqrt()) * n
+    }
+}
+
+/// GLSL `fresnel_transmittance`.
+pub fn fresnel_transmittance(cos_i: f32, n: f32) -> f32 {
+    let cos_i = cos_i.clamp(0.0, 1.0);
+    let sin_t2 = (1.0 - cos_i * cos_i) / (n * n);
+    if sin_t2 >= 1.0 {
+        return 0.0;
+    }
+    let cos_t = (1.0 - sin_t2).sqrt();
+    let rs = (cos_i - n * cos_t) / (cos_i + n * cos_t);
+    let rp = (n * cos_i - cos_t) / (n * cos_i + cos_t);
+    1.0 - 0.5 * (rs * rs + rp * rp)
+}
+
+/// GLSL `henyey_greenstein`.
+pub fn henyey_greenstein(cos_theta: f32, g: f32) -> f32 {
+    let denom = 1.0 + g * g - 2.0 * g * cos_theta;
+    (1.0 - g * g) / (4.0 * PI * denom * denom.sqrt())
+}
+
+/// GLSL `regulated_point_size`.
+pub fn regulated_point_size(d_view: f32, z_near: f32, z_far: f32, s_min: f32, s_max: f32) -> f32 {
+    let a = s_max - z_far * (s_max - s_min) / (z_far - z_near);
+    let b = z_near * z_far * (s_max - s_min) / (z_far - z_near);
+    a + b / d_view.max(z_near)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn water(model: i32) -> WaterParams {
+        WaterParams {
+            model,
+            level: 0.0,
+            amplitude: 0.05,
+            wavelength: 1.3,
+            speed: 0.7,
+            noise_amplitude: 0.03,
+            noise_scale: 3.0,
+            ior: 1.333,
+            center: Vec2::new(0.3, -0.2),
+            extent_min: Vec2::splat(-5.0),
+            extent_max: Vec2::splat(5.0),
+        }
+    }
+
+    #[test]
+    fn water_gradient_matches_finite_differences() {
+        let noise = NoiseTexture::generate();
+        for model in [WATER_CIRCULAR_COSINE, WATER_AXIS_COSINE_NOISE] {
+            let w = water(model);
+            for &(x, z, t) in &[(0.7f32, 1.1f32, 0.0f32), (-2.3, 0.4, 3.7), (1.9, -3.3, 11.0)] {
+                let e = 1e-3;
+                let h = |dx: f32, dz: f32| water_height_grad(&w, &noise, Vec2::new(x + dx, z + dz), t).x;
+                let fd = Vec2::new((h(e, 0.0) - h(-e, 0.0)) / (2.0 * e), (h(0.0, e) - h(0.0, -e)) / (2.0 * e));
+                let g = water_height_grad(&w, &noise, Vec2::new(x, z), t);
+                // The noise gradient is interpolated, not differentiated, so allow a little.
+                assert!((fd - Vec2::new(g.y, g.z)).length() < 0.02 * (1.0 + fd.length()), "model {model}: fd {fd} vs {g}");
+            }
+        }
+    }
+
+    #[test]
+    fn noise_tiles_and_is_bounded() {
+        let noise = NoiseTexture::generate();
+        let a = noise.sample(Vec2::new(0.23, 0.71));
+        let b = noise.sample(Vec2::new(3.23, -1.29));
+        assert!((a - b).length() < 1e-4, "{a} vs {b}");
+        let max = noise.texels.iter().map(|t| t[0].abs()).fold(0.0, f32::max);
+        assert!(max > 0.3 && max <= 1.5, "noise amplitude {max}");
+    }
+
+    #[test]
+    fn surface_intersection_lands_on_the_surface() {
+        let noise = NoiseTexture::generate();
+        let w = water(WATER_CIRCULAR_COSINE);
+        let o = Vec3::new(0.4, 10.0, -0.8);
+        let d = Vec3::new(0.2, -1.0, 0.1).normalize();
+        let t = water_intersect(&w, &noise, o, d, 2.0);
+        let p = o + t * d;
+        let h = water_height_grad(&w, &noise, p.xz(), 2.0).x;
+        assert!((p.y - (w.level + h)).abs() < 1e-4, "{} vs {}", p.y, h);
+    }
+
+    #[test]
+    fn refraction_obeys_snell_and_fresnel_is_physical() {
+        let n = Vec3::Y;
+        let i = Vec3::new(0.6, -0.8, 0.0);
+        let t = refract(i, n, 1.0 / 1.333);
+        let (sin_i, sin_t) = (i.x.abs(), t.x.abs() / t.length());
+        assert!((sin_i - 1.333 * sin_t).abs() < 1e-5);
+        // Normal incidence: 1 − ((n−1)/(n+1))².
+        let t0 = fresnel_transmittance(1.0, 1.333);
+        assert!((t0 - (1.0 - (0.333f32 / 2.333).powi(2))).abs() < 1e-6);
+        assert!(fresnel_transmittance(0.0, 1.333) < 1e-6);
+        assert!(fresnel_transmittance(0.5, 1.333) < t0);
+    }
+
+    #[test]
+    fn henyey_greenstein_integrates_to_one() {
+        for g in [-0.9f32, 0.0, 0.5, 0.9] {
+            // ∫ p dω = 2π ∫_{-1}^{1} p(μ) dμ.
+            let n = 200_000;
+            let sum: f64 = (0..n)
+                .map(|k| henyey_greenstein(-1.0 + 2.0 * (k as f32 + 0.5) / n as f32, g) as f64)
+                .sum::<f64>()
+                * 2.0 / n as f64
+                * 2.0 * std::f64::consts::PI;
+            assert!((sum - 1.0).abs() < 2e-3, "g = {g}: {sum}");
+        }
+    }
+
+    #[test]
+    fn point_size_hits_both_ends() {
+        assert!((regulated_point_size(0.1, 0.1, 50.0, 5.0, 20.0) - 20.0).abs() < 1e-3);
+        assert!((regulated_point_size(50.0, 0.1, 50.0, 5.0, 20.0) - 5.0).abs() < 1e-3);
+    }
 
     #[test]
     fn grid_uv_tiles_unit_square_evenly() {

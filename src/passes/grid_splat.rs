@@ -138,6 +138,8 @@ impl GridSplatPass {
                 set_layouts: &[],
                 render_pass: render_pass.raw,
                 dynamic_line_width: false,
+                vertex_stride: 0,
+                vertex_attributes: &[],
             },
         )?;
         Ok(Self { settings, pipeline, render_pass, target, device: device.clone() })

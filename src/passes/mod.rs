@@ -1,7 +1,11 @@
 //! The passes of the frame. Each pass lives in its own file; `PassId` names them all, so the
 //! timing table, the debug labels and validation messages use the same names.
 
+pub mod caustics;
+pub mod compose;
 pub mod grid_splat;
+pub mod scene;
+pub mod shadow;
 
 use std::ffi::CStr;
 

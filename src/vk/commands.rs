@@ -55,6 +55,8 @@ pub fn one_shot<R>(device: &Device, name: &str, record: impl FnOnce(vk::CommandB
 /// One frame in flight: its command buffer, the fence that says the GPU finished it, and its
 /// own timestamp pool.
 pub struct FrameSlot {
+    /// Which of the FRAMES_IN_FLIGHT slots this is (selects per-frame uniforms and sets).
+    pub index: usize,
     pub cmd: vk::CommandBuffer,
     pool: vk::CommandPool,
     fence: vk::Fence,
@@ -112,7 +114,7 @@ impl FrameRing {
             };
             device.set_name(cmd, &format!("frame {i} commands"));
             device.set_name(fence, &format!("frame {i} fence"));
-            slots.push(FrameSlot { cmd, pool, fence, timer, submitted: false });
+            slots.push(FrameSlot { index: i, cmd, pool, fence, timer, submitted: false });
         }
         Ok(Self {
             slots,

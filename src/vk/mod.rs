@@ -2,6 +2,7 @@
 
 pub mod buffer;
 pub mod commands;
+pub mod descriptors;
 pub mod device;
 pub mod features;
 pub mod image;
@@ -9,7 +10,9 @@ pub mod instance;
 pub mod pipeline;
 pub mod readback;
 pub mod render_pass;
+pub mod sampler;
 pub mod timing;
+pub mod upload;
 pub mod validation;
 
 pub use ash::vk;

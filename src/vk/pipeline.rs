@@ -37,6 +37,10 @@ pub struct GraphicsPipelineDesc<'a> {
     pub render_pass: vk::RenderPass,
     /// Lines drawn wider than 1 px set the width dynamically (vkCmdSetLineWidth).
     pub dynamic_line_width: bool,
+    /// Per-vertex input from binding 0: stride and (location, format, offset); empty when
+    /// the vertex shader builds its input from gl_VertexIndex.
+    pub vertex_stride: u32,
+    pub vertex_attributes: &'a [(u32, vk::Format, u32)],
 }
 
 pub struct Pipeline {
@@ -107,7 +111,23 @@ impl Pipeline {
             })
             .collect();
 
-        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
+        let vertex_bindings = [vk::VertexInputBindingDescription {
+            binding: 0,
+            stride: desc.vertex_stride,
+            input_rate: vk::VertexInputRate::VERTEX,
+        }];
+        let vertex_attributes: Vec<vk::VertexInputAttributeDescription> = desc
+            .vertex_attributes
+            .iter()
+            .map(|&(location, format, offset)| vk::VertexInputAttributeDescription { location, binding: 0, format, offset })
+            .collect();
+        let vertex_input = if desc.vertex_attributes.is_empty() {
+            vk::PipelineVertexInputStateCreateInfo::default()
+        } else {
+            vk::PipelineVertexInputStateCreateInfo::default()
+                .vertex_binding_descriptions(&vertex_bindings)
+                .vertex_attribute_descriptions(&vertex_attributes)
+        };
         let input_assembly = vk::PipelineInputAssemblyStateCreateInfo::default().topology(desc.topology);
         let viewport = vk::PipelineViewportStateCreateInfo::default().viewport_count(1).scissor_count(1);
         let raster = vk::PipelineRasterizationStateCreateInfo::default()

@@ -36,6 +36,33 @@ impl Readback {
         Ok(Self { buffer, extent: image.extent, format: image.format, device: device.clone() })
     }
 
+    /// Records the copy of an image that a later frame will overwrite from scratch, currently
+    /// in `layout`: transitions it to TRANSFER_SRC_OPTIMAL first (after everything before).
+    pub fn record_from(&self, cmd: vk::CommandBuffer, image: &Image, layout: vk::ImageLayout) {
+        if layout != vk::ImageLayout::TRANSFER_SRC_OPTIMAL {
+            let to_src = [vk::ImageMemoryBarrier2::default()
+                .src_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
+                .src_access_mask(vk::AccessFlags2::MEMORY_WRITE)
+                .dst_stage_mask(vk::PipelineStageFlags2::COPY)
+                .dst_access_mask(vk::AccessFlags2::TRANSFER_READ)
+                .old_layout(layout)
+                .new_layout(vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
+                .image(image.raw)
+                .subresource_range(image.full_range())];
+            unsafe {
+                self.device
+                    .raw
+                    .cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(&to_src))
+            };
+        }
+        self.record(cmd, image);
+    }
+
+    /// The raw bytes copied (e.g. 8-bit sRGB texels). Call after the copy's fence signalled.
+    pub fn bytes(&self) -> &[u8] {
+        self.buffer.mapped().expect("readback buffers are host-visible")
+    }
+
     /// Records the copy of `image` (in TRANSFER_SRC_OPTIMAL, after a pass whose outgoing
     /// dependency covers transfers) and makes it visible to the host.
     pub fn record(&self, cmd: vk::CommandBuffer, image: &Image) {

@@ -1,0 +1,3 @@
+#version 450
+// Compose variant; see compose.glsl.
+#include "compose.glsl"

@@ -1,0 +1,46 @@
+#version 450
+// Godrays (method step 6): the same photon casting on the godray grid, each photon that
+// reaches a receiver emitted as a line from where it entered the water to where it lands.
+#include "photon.glsl"
+
+layout(points) in;
+// 2 vertices × GODRAY_MAX_SUBDIVISION² photons; each vertex carries 12 components, so
+// 72 vertices stay within the 1024 output components every geometry-shader device offers.
+layout(line_strip, max_vertices = 72) out;
+layout(constant_id = 0) const uint SUBDIVISION = 2;
+layout(push_constant) uniform GridPush { uint grid; } pc;
+
+layout(location = 0) flat in uvec2 v_cell[];
+layout(location = 0) out vec3 g_world;           // fragment's world position (interpolated)
+layout(location = 1) out float g_from_surface;   // distance travelled under water, m
+layout(location = 2) flat out vec3 g_direction;  // r_t
+layout(location = 3) flat out float g_flux;      // W (after the surface, before attenuation)
+
+void main() {
+    float photons_per_axis = float(pc.grid * SUBDIVISION);
+    for (uint j = 0; j < SUBDIVISION; ++j) {
+        for (uint i = 0; i < SUBDIVISION; ++i) {
+            vec2 uv = photon_grid_uv(v_cell[0], uvec2(i, j), SUBDIVISION, uvec2(pc.grid));
+            Photon ph;
+            if (!cast_photon(uv, photons_per_axis, ph)) continue;
+            vec4 a = frame.camera_view_proj * vec4(ph.surface, 1.0);
+            vec4 b = frame.camera_view_proj * vec4(ph.hit, 1.0);
+            // Lines crossing the camera plane would need clipping against it in world space;
+            // the rasteriser clips lines properly, so only drop lines entirely behind.
+            if (a.w <= frame.camera_params.x && b.w <= frame.camera_params.x) continue;
+            g_direction = ph.direction;
+            g_flux = ph.flux;
+            gl_Position = a;
+            g_world = ph.surface;
+            g_from_surface = 0.0;
+            EmitVertex();
+            g_direction = ph.direction;
+            g_flux = ph.flux;
+            gl_Position = b;
+            g_world = ph.hit;
+            g_from_surface = ph.travelled;
+            EmitVertex();
+            EndPrimitive();
+        }
+    }
+}

@@ -1,0 +1,110 @@
+// Photon casting shared by the caustics and godrays geometry shaders (method steps 5–6):
+// a photon of the light-space grid is unprojected to a world ray, intersected with the
+// water surface, refracted, and intersected with the scene by Shah's image-space iteration
+// against the light's receiver-position map.
+#ifndef UNDERLIGHT_PHOTON_GLSL
+#define UNDERLIGHT_PHOTON_GLSL
+#include "frame.glsl"
+#include "frame_textures.glsl"
+
+layout(set = 0, binding = BINDING_NOISE) uniform sampler2D noise_tex;
+layout(set = 0, binding = BINDING_LIGHT_POSITION) uniform sampler2D light_position;
+
+struct Photon {
+    vec3 surface;     // p_s: where it enters the water
+    vec3 direction;   // r_t: refracted direction (unit)
+    vec3 hit;         // p_i: where it meets the scene
+    float flux;       // W carried after the surface (Fresnel transmittance applied)
+    float travelled;  // |p_i − p_s|, m
+};
+
+// Texel of the light maps under world point p; false when p projects outside the map or
+// behind the light.
+bool light_texel(vec3 p, out ivec2 texel) {
+    vec4 c = frame.light_view_proj * vec4(p, 1.0);
+    if (c.w <= 0.0) return false;
+    vec2 uv = c.xy / c.w * 0.5 + 0.5;
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThanEqual(uv, vec2(1.0)))) return false;
+    texel = ivec2(uv * frame.effect1.w);
+    return true;
+}
+
+// Casts the photon at light-space position uv ∈ [0,1]² of a grid with `photons_per_axis`²
+// photons. Returns false for photons that never enter the water, are blocked before it,
+// leave the light's map, hit nothing, or whose iteration does not converge: those are
+// dropped, never splatted.
+bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
+    ph.surface = vec3(0.0); ph.direction = vec3(0.0); ph.hit = vec3(0.0); ph.flux = 0.0; ph.travelled = 0.0;
+    vec2 ndc = uv * 2.0 - 1.0;
+    vec4 a = frame.light_inv_view_proj * vec4(ndc, 0.0, 1.0);
+    vec4 b = frame.light_inv_view_proj * vec4(ndc, 1.0, 1.0);
+    vec3 o = a.xyz / a.w;
+    vec3 d = normalize(b.xyz / b.w - o);
+
+    WaterParams w = frame_water();
+    float t = water_intersect(w, noise_tex, o, d, frame_time());
+    if (!(t > 0.0)) return false;
+    vec3 ps = o + t * d;
+    if (!water_covers(w, ps.xz)) return false;
+    // Blocked before reaching the water (a deck, a wall above it): the light's first
+    // receiver along the ray is nearer than the surface. This is the water mask, derived.
+    ivec2 texel;
+    if (light_texel(ps, texel)) {
+        vec4 first = texelFetch(light_position, texel, 0);
+        if (first.w > 0.0 && dot(first.xyz - o, d) < t - 1e-3) return false;
+    }
+    vec3 hg = water_height_grad(w, noise_tex, ps.xz, frame_time());
+    vec3 n = water_normal_from_grad(hg.yz);
+    float cos_i = dot(-d, n);
+    if (cos_i <= 0.0) return false; // the ray meets the back of a steep wave
+    vec3 rt = refract(d, n, 1.0 / w.ior);
+    if (dot(rt, rt) == 0.0) return false;
+    rt = normalize(rt);
+
+    // Shah's iteration: guess d, project p_s + d·r_t into the light's map, take the stored
+    // receiver's distance from p_s as the next guess. The first guess is the receiver
+    // straight along the unrefracted ray.
+    float dist = 1.0;
+    if (light_texel(ps, texel)) {
+        vec4 below = texelFetch(light_position, texel, 0);
+        if (below.w > 0.0) dist = max(length(below.xyz - ps), 1e-3);
+    }
+    vec3 receiver = vec3(0.0);
+    int iterations = int(frame.effect1.z);
+    for (int i = 0; i < iterations; ++i) {
+        if (!light_texel(ps + dist * rt, texel)) return false;      // left the map
+        vec4 r = texelFetch(light_position, texel, 0);
+        if (r.w <= 0.0) return false;                               // nothing there
+        receiver = r.xyz;
+        dist = length(receiver - ps);
+    }
+    vec3 hit = ps + dist * rt;
+    // Converged when the estimate lands where the map says the receiver is: within a few
+    // map texels (their world size grows with distance for a point light) or 5% of d.
+    if (!light_texel(hit, texel)) return false;
+    vec4 r = texelFetch(light_position, texel, 0);
+    if (r.w <= 0.0) return false;
+    float texel_size = 2.0 * max(frame.light_flux.z, frame.light_flux.w) / frame.effect1.w
+                     * (frame.light_pos.w > 0.0 ? length(hit - frame.light_pos.xyz) : 1.0);
+    if (length(r.xyz - hit) > max(3.0 * texel_size, 0.05 * dist)) return false;
+    if (hit.y > w.level + abs(w.amplitude) + abs(w.noise_amplitude)) return false;
+
+    // Flux of this photon before the surface: the light's power through its share of the
+    // light frustum. Directional: E⊥ × window area / N². Point: I × the photon's solid angle
+    // (tangent-plane cell area × cos³ of its angle to the light's axis).
+    float n2 = photons_per_axis * photons_per_axis;
+    float flux;
+    if (frame.light_pos.w == 0.0) {
+        flux = frame.light_flux.y * 4.0 * frame.light_flux.z * frame.light_flux.w / n2;
+    } else {
+        float c = max(dot(d, frame.light_dir.xyz), 0.0);
+        flux = frame.light_flux.y * 4.0 * frame.light_flux.z * frame.light_flux.w / n2 * c * c * c;
+    }
+    ph.surface = ps;
+    ph.direction = rt;
+    ph.hit = hit;
+    ph.flux = flux * fresnel_transmittance(cos_i, w.ior);
+    ph.travelled = dist;
+    return !(any(isnan(hit)) || any(isinf(hit)) || isnan(ph.flux) || isinf(ph.flux));
+}
+#endif

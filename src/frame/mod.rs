@@ -1,0 +1,259 @@
+//! The frame: which passes run for a scene, in order, and their recording.
+//!
+//! `FramePlan` derives the passes from the scene (model only what the scene requires);
+//! `Frame` creates exactly those passes and targets, and records them in method order:
+//! shadow → scene → caustics → compose, each through the timing wrapper.
+
+pub mod mesh;
+pub mod uniforms;
+
+use crate::error::Result;
+use crate::passes::caustics::CausticsPass;
+use crate::passes::compose::ComposePass;
+use crate::passes::scene::ScenePass;
+use crate::passes::shadow::ShadowPass;
+use crate::passes::PassId;
+use crate::scene::Scene;
+use crate::shader_math::NoiseTexture;
+use crate::vk::buffer::Buffer;
+use crate::vk::commands::{FrameSlot, FRAMES_IN_FLIGHT};
+use crate::vk::descriptors::{Binding, DescriptorSets, Resource};
+use crate::vk::device::Device;
+use crate::vk::image::Image;
+use crate::vk::sampler::Sampler;
+use crate::vk::upload::image_with_data;
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+use mesh::GpuMeshes;
+use std::fmt;
+use std::sync::Arc;
+use uniforms::{FrameExtents, FrameUniforms};
+
+/// Binding numbers of the frame's descriptor set (`glsl/frame_textures.glsl`).
+pub mod bindings {
+    pub const UNIFORMS: u32 = 0;
+    pub const NOISE: u32 = 1;
+    pub const LIGHT_POSITION: u32 = 2;
+    pub const LIGHT_NORMAL: u32 = 3;
+    pub const SCENE_DEPTH: u32 = 4;
+    pub const SCENE_COLOR: u32 = 5;
+    pub const ALBEDO_TRANSMITTANCE: u32 = 6;
+    pub const CAUSTICS: u32 = 7;
+    pub const GODRAYS: u32 = 8;
+    /// The unfiltered buffer a filter pass instance reads (each instance has its own set).
+    pub const FILTER_INPUT: u32 = 9;
+}
+
+/// Which passes a scene needs, and why each is in or out.
+#[derive(Clone, Debug)]
+pub struct FramePlan {
+    /// Passes that run, in order.
+    pub passes: Vec<PassId>,
+    /// Every pass of the method with whether it runs and the reason.
+    pub decisions: Vec<(PassId, bool, String)>,
+}
+
+impl FramePlan {
+    pub fn for_scene(scene: &Scene) -> Self {
+        let level = scene.water.level;
+        let below = scene.meshes.iter().any(|m| m.positions.iter().any(|p| p.y < level));
+        let caustics = scene.effects.caustics && below;
+        let caustics_why = if !scene.effects.caustics {
+            "off in the scene's effects".to_string()
+        } else if !below {
+            format!("no receiver lies below the water level ({level} m)")
+        } else {
+            format!(
+                "receivers below the water; {}² cells × {}² photons into {:.0}% of the output",
+                scene.effects.caustic_grid,
+                scene.effects.caustic_subdivision,
+                100.0 * scene.effects.caustic_target_scale
+            )
+        };
+        // Godrays and filtering arrive in later work; the plan already says why they are off.
+        let godrays_why = if !scene.effects.godrays {
+            "off in the scene's effects".to_string()
+        } else if scene.medium.scattering <= 0.0 {
+            "the medium does not scatter (scattering = 0)".to_string()
+        } else {
+            "not implemented yet".to_string()
+        };
+        let filter_why = if !scene.effects.filter { "off in the scene's effects" } else { "not implemented yet" };
+        let shadow = caustics;
+        let mut decisions = vec![
+            (
+                PassId::Shadow,
+                shadow,
+                if shadow {
+                    "photons need the light's receiver positions and normals (the water mask is derived from them, no separate target)".to_string()
+                } else {
+                    "no photon pass needs the light's view".to_string()
+                },
+            ),
+            (PassId::Scene, true, "camera colour and depth are always needed".to_string()),
+            (PassId::Caustics, caustics, caustics_why),
+            (PassId::Godrays, false, godrays_why),
+            (PassId::Filter, false, filter_why.to_string()),
+            (PassId::Compose, true, "the output image".to_string()),
+        ];
+        decisions.sort_by_key(|d| d.0);
+        let passes = decisions.iter().filter(|d| d.1).map(|d| d.0).collect();
+        Self { passes, decisions }
+    }
+
+    pub fn runs(&self, id: PassId) -> bool {
+        self.passes.contains(&id)
+    }
+}
+
+impl fmt::Display for FramePlan {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (id, runs, why) in &self.decisions {
+            writeln!(f, "{:<9} {:<4} {}", id.name(), if *runs { "run" } else { "skip" }, why)?;
+        }
+        Ok(())
+    }
+}
+
+/// Sizes of the frame's targets for an output size and a scene's effect scales.
+pub fn frame_extents(scene: &Scene, output: vk::Extent2D, device: &Device) -> FrameExtents {
+    let scaled = |s: f32| {
+        [((output.width as f32 * s).round() as u32).max(1), ((output.height as f32 * s).round() as u32).max(1)]
+    };
+    let limits = device.limits();
+    FrameExtents {
+        output: [output.width, output.height],
+        caustic: scaled(scene.effects.caustic_target_scale),
+        godray: scaled(scene.effects.godray_target_scale),
+        light_map: scene.effects.shadow_map_size,
+        max_point_size: limits.point_size_range[1],
+        max_line_width: limits.line_width_range[1],
+    }
+}
+
+pub struct Frame {
+    pub plan: FramePlan,
+    pub extents: FrameExtents,
+    scene: Scene,
+    // Passes before the resources they read: dropped first.
+    pub shadow: Option<ShadowPass>,
+    pub scene_pass: ScenePass,
+    pub caustics: Option<CausticsPass>,
+    pub compose: ComposePass,
+    uniforms: Vec<Buffer>,
+    meshes: GpuMeshes,
+    // Read through the descriptor sets only; owned here so they live as long as the frame.
+    _noise: Image,
+    _nearest: Sampler,
+    _linear: Sampler,
+}
+
+impl Frame {
+    /// Creates the passes the scene needs for an output of `output` texels, leaving the
+    /// output in `output_layout` (TRANSFER_SRC_OPTIMAL headless, PRESENT_SRC_KHR for a window).
+    pub fn new(device: &Arc<Device>, scene: &Scene, output: vk::Extent2D, output_layout: vk::ImageLayout) -> Result<Self> {
+        let plan = FramePlan::for_scene(scene);
+        let extents = frame_extents(scene, output, device);
+        let mut uniforms = Vec::with_capacity(FRAMES_IN_FLIGHT);
+        for i in 0..FRAMES_IN_FLIGHT {
+            uniforms.push(Buffer::new(
+                device,
+                &format!("frame {i} uniforms"),
+                std::mem::size_of::<FrameUniforms>() as u64,
+                vk::BufferUsageFlags::UNIFORM_BUFFER,
+                MemoryLocation::CpuToGpu,
+            )?);
+        }
+        let meshes = GpuMeshes::new(device, scene)?;
+        let noise_data = NoiseTexture::generate();
+        let noise = image_with_data(
+            device,
+            "water noise",
+            vk::Extent2D { width: noise_data.size, height: noise_data.size },
+            vk::Format::R32G32B32A32_SFLOAT,
+            bytemuck::cast_slice(&noise_data.texels),
+        )?;
+        let nearest = Sampler::new(device, "nearest", vk::Filter::NEAREST)?;
+        let linear = Sampler::new(device, "linear", vk::Filter::LINEAR)?;
+        let shadow = if plan.runs(PassId::Shadow) { Some(ShadowPass::new(device, extents.light_map)?) } else { None };
+        let scene_pass = ScenePass::new(device, output)?;
+        let caustics = if plan.runs(PassId::Caustics) {
+            let e = &scene.effects;
+            let ext = vk::Extent2D { width: extents.caustic[0], height: extents.caustic[1] };
+            Some(CausticsPass::new(device, ext, e.caustic_grid, e.caustic_subdivision)?)
+        } else {
+            None
+        };
+        let compose = ComposePass::new(device, output, caustics.is_some(), false, output_layout)?;
+
+        // Each pass declared the bindings its shaders read; fill them from what this frame
+        // made. A binding whose producer is not in the plan would be a bug in the plan.
+        let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+        let tex = |image: &Image, sampler: &Sampler| Resource::Texture { view: image.view, sampler: sampler.raw, layout: read };
+        let resource = |binding: u32, frame: usize| -> Resource {
+            match binding {
+                bindings::UNIFORMS => Resource::Uniform { buffer: uniforms[frame].raw, range: uniforms[frame].size },
+                bindings::NOISE => tex(&noise, &nearest),
+                bindings::LIGHT_POSITION => tex(&shadow.as_ref().expect("plan: caustics need shadow").position, &nearest),
+                bindings::LIGHT_NORMAL => tex(&shadow.as_ref().expect("plan: caustics need shadow").normal, &nearest),
+                bindings::SCENE_DEPTH => tex(&scene_pass.depth, &nearest),
+                bindings::SCENE_COLOR => tex(&scene_pass.color, &nearest),
+                bindings::ALBEDO_TRANSMITTANCE => tex(&scene_pass.albedo_transmittance, &nearest),
+                // Effect targets are smaller than the output: upsample bilinearly.
+                bindings::CAUSTICS => tex(&caustics.as_ref().expect("plan: compose reads caustics").target, &linear),
+                other => panic!("no resource for binding {other}"),
+            }
+        };
+        let mut pass_sets: Vec<(&DescriptorSets, Vec<(u32, Binding)>)> = vec![
+            (&scene_pass.sets, crate::passes::scene::BINDINGS.to_vec()),
+            (&compose.sets, ComposePass::bindings(caustics.is_some(), false)),
+        ];
+        if let Some(s) = &shadow {
+            pass_sets.push((&s.sets, crate::passes::shadow::BINDINGS.to_vec()));
+        }
+        if let Some(c) = &caustics {
+            pass_sets.push((&c.sets, crate::passes::caustics::BINDINGS.to_vec()));
+        }
+        for (sets, list) in pass_sets {
+            for frame in 0..FRAMES_IN_FLIGHT {
+                sets.write_at(frame, list.iter().map(|(b, _)| (*b as usize, resource(*b, frame))).collect());
+            }
+        }
+        Ok(Self {
+            plan,
+            extents,
+            scene: scene.clone(),
+            shadow,
+            scene_pass,
+            caustics,
+            compose,
+            uniforms,
+            meshes,
+            _noise: noise,
+            _nearest: nearest,
+            _linear: linear,
+        })
+    }
+
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// Writes this frame's uniforms (the slot's fence has signalled, so its buffer is free)
+    /// and records the passes through the slot's timer.
+    pub fn record(&mut self, slot: &mut FrameSlot, time: f32) {
+        let u = FrameUniforms::new(&self.scene, &self.extents, time);
+        if let Some(bytes) = self.uniforms[slot.index].mapped_mut() {
+            bytes.copy_from_slice(bytemuck::bytes_of(&u));
+        }
+        let (i, cmd) = (slot.index, slot.cmd);
+        if let Some(shadow) = &self.shadow {
+            slot.timer.pass(cmd, PassId::Shadow, |cmd| shadow.record(cmd, i, &self.meshes));
+        }
+        slot.timer.pass(cmd, PassId::Scene, |cmd| self.scene_pass.record(cmd, i, &self.meshes));
+        if let Some(caustics) = &self.caustics {
+            slot.timer.pass(cmd, PassId::Caustics, |cmd| caustics.record(cmd, i));
+        }
+        slot.timer.pass(cmd, PassId::Compose, |cmd| self.compose.record(cmd, i));
+    }
+}

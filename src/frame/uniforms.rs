@@ -1,0 +1,242 @@
+//! Frame preparation (method step 1) and the uniforms every pass reads.
+//!
+//! The light frustum follows the camera: both light kinds look at the middle of the view
+//! frustum, `p_mid = p_viewer + (z_near + z_far)/2 · l_viewer` (with z_far clamped to the
+//! scene, so a far plane set generously does not aim the light at empty space). A
+//! directional light sits `distance` back along its direction and projects orthographically
+//! over the part of the scene the camera can see; a point light stays where it is and
+//! projects in perspective over the same region.
+
+use crate::scene::{LightKind, Scene, WaterModel};
+use crate::shader_math::{WATER_AXIS_COSINE_NOISE, WATER_CIRCULAR_COSINE};
+use glam::{Mat4, Vec3, Vec4};
+
+/// std140 image of `glsl/frame.glsl`'s `FrameUniforms`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct FrameUniforms {
+    pub camera_view_proj: [[f32; 4]; 4],
+    pub light_view_proj: [[f32; 4]; 4],
+    pub light_inv_view_proj: [[f32; 4]; 4],
+    pub camera_pos: [f32; 4],
+    pub camera_params: [f32; 4],
+    pub light_pos: [f32; 4],
+    pub light_dir: [f32; 4],
+    pub light_flux: [f32; 4],
+    pub water0: [f32; 4],
+    pub water1: [f32; 4],
+    pub water2: [f32; 4],
+    pub water3: [f32; 4],
+    pub gamma: [f32; 4],
+    pub effect0: [f32; 4],
+    pub effect1: [f32; 4],
+    pub effect2: [f32; 4],
+    pub effect3: [f32; 4],
+}
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 3 * 64 + 14 * 16);
+
+/// Sizes of the frame's targets and the device limits the shaders clamp to.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameExtents {
+    pub output: [u32; 2],
+    pub caustic: [u32; 2],
+    pub godray: [u32; 2],
+    pub light_map: u32,
+    pub max_point_size: f32,
+    pub max_line_width: f32,
+}
+
+// Right-handed, y-up view space; Vulkan clip space (y down, depth in [0, 1]).
+use glam::camera::rh::proj::vulkan::{orthographic, perspective};
+use glam::camera::rh::view::look_at_mat4;
+
+/// The camera's view and projection.
+pub fn camera_matrices(scene: &Scene, aspect: f32) -> (Mat4, Mat4) {
+    let c = &scene.camera;
+    let forward = (c.look_at - c.position).normalize();
+    // Looking straight up or down makes y a degenerate up vector; use z then.
+    let up = if forward.cross(Vec3::Y).length_squared() < 1e-6 { Vec3::Z } else { Vec3::Y };
+    let view = look_at_mat4(c.position, c.look_at, up);
+    let proj = perspective(c.fov_y_degrees.to_radians(), aspect, c.z_near, c.z_far);
+    (view, proj)
+}
+
+/// The light's view-projection and its photon-flux parameters, following the camera.
+#[derive(Clone, Copy, Debug)]
+pub struct LightFrame {
+    pub view_proj: Mat4,
+    pub position: Vec3,
+    pub axis: Vec3,
+    /// Directional: half sizes (m) of the orthographic window. Point: tan of the half angles.
+    pub half_extent: [f32; 2],
+}
+
+pub fn light_frame(scene: &Scene, aspect: f32) -> LightFrame {
+    let c = &scene.camera;
+    let (lo, hi) = scene.bounds();
+    let radius = (hi - lo).length().max(1e-3);
+    let forward = (c.look_at - c.position).normalize();
+    let far = c.z_far.min(radius * 2.0);
+    let p_mid = c.position + 0.5 * (c.z_near + far) * forward;
+
+    // The region the photons must cover: what the camera can see. Each corner ray of the
+    // view frustum runs from the near plane until it leaves the scene's bounds (or reaches
+    // the far plane); the near-plane corners and those exit points span the visible region.
+    let (view, proj) = camera_matrices(scene, aspect);
+    let inv = (proj * view).inverse();
+    let mut corners = Vec::with_capacity(8);
+    for &(x, y) in &[(-1.0f32, -1.0f32), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
+        let near = inv * Vec4::new(x, y, 0.0, 1.0);
+        let near = near.truncate() / near.w;
+        let dir = (near - c.position).normalize();
+        let exit = ray_box_exit(c.position, dir, lo, hi).clamp(c.z_near, far);
+        corners.push(near.clamp(lo, hi));
+        corners.push((c.position + dir * exit).clamp(lo, hi));
+    }
+    // The depth range must hold the scene and the water surface above it (photon rays start
+    // at the light's near plane and must cross the surface inside the frustum).
+    let w = &scene.water;
+    let reach = w.amplitude.abs() + w.noise_amplitude.abs() + 0.01;
+    let (lo_all, hi_all) = (
+        lo.min(Vec3::new(w.extent_min.x, w.level - reach, w.extent_min.y)),
+        hi.max(Vec3::new(w.extent_max.x, w.level + reach, w.extent_max.y)),
+    );
+    let scene_corners: Vec<Vec3> = (0..8)
+        .map(|i| {
+            Vec3::new(
+                if i & 1 == 0 { lo_all.x } else { hi_all.x },
+                if i & 2 == 0 { lo_all.y } else { hi_all.y },
+                if i & 4 == 0 { lo_all.z } else { hi_all.z },
+            )
+        })
+        .collect();
+
+    match scene.light.kind {
+        LightKind::Directional => {
+            let dir = scene.light.direction.normalize();
+            let position = p_mid - dir * scene.light.distance;
+            let up = if dir.cross(Vec3::Z).length_squared() < 1e-6 { Vec3::X } else { Vec3::Z };
+            let view = look_at_mat4(position, p_mid, up);
+            let (mut min, mut max) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+            for p in &corners {
+                let q = view.transform_point3(*p);
+                min = min.min(q);
+                max = max.max(q);
+            }
+            // Refraction bends photons sideways; a margin keeps receivers near the edge lit.
+            let margin = 0.1 * (max - min).truncate().max_element() + 0.25;
+            let (mut zmin, mut zmax) = (f32::INFINITY, f32::NEG_INFINITY);
+            for p in &scene_corners {
+                let q = view.transform_point3(*p);
+                zmin = zmin.min(-q.z);
+                zmax = zmax.max(-q.z);
+            }
+            let half = [0.5 * (max.x - min.x) + margin, 0.5 * (max.y - min.y) + margin];
+            let center = 0.5 * (min + max);
+            // Centre the window on the visible region (the look-at point may not be its middle).
+            let shift = Mat4::from_translation(Vec3::new(-center.x, -center.y, 0.0));
+            let proj = orthographic(-half[0], half[0], -half[1], half[1], (zmin - 1.0).max(0.01), zmax + 1.0);
+            LightFrame { view_proj: proj * shift * view, position, axis: dir, half_extent: half }
+        }
+        LightKind::Point => {
+            let position = scene.light.position;
+            let axis = (p_mid - position).normalize_or(Vec3::NEG_Y);
+            let up = if axis.cross(Vec3::Z).length_squared() < 1e-6 { Vec3::X } else { Vec3::Z };
+            let view = look_at_mat4(position, position + axis, up);
+            let (mut tx, mut ty) = (0.05f32, 0.05f32);
+            let mut zmax = 0.1f32;
+            for p in corners.iter().chain(&scene_corners) {
+                let q = view.transform_point3(*p);
+                zmax = zmax.max(-q.z);
+            }
+            for p in &corners {
+                let q = view.transform_point3(*p);
+                if -q.z > 1e-3 {
+                    tx = tx.max((q.x / -q.z).abs());
+                    ty = ty.max((q.y / -q.z).abs());
+                } else {
+                    // Part of the view is beside or behind the light: cover a wide cone.
+                    tx = tx.max(1.7);
+                    ty = ty.max(1.7);
+                }
+            }
+            let (tx, ty) = (tx.min(1.7) * 1.1, ty.min(1.7) * 1.1);
+            let proj = perspective(2.0 * ty.atan(), tx / ty, 0.01, zmax * 1.1 + 1.0);
+            LightFrame { view_proj: proj * view, position, axis, half_extent: [tx, ty] }
+        }
+    }
+}
+
+/// Distance along a ray from `o` (inside or outside the box) to where it leaves [lo, hi].
+fn ray_box_exit(o: Vec3, d: Vec3, lo: Vec3, hi: Vec3) -> f32 {
+    let mut t = f32::INFINITY;
+    for axis in 0..3 {
+        if d[axis].abs() > 1e-9 {
+            let bound = if d[axis] > 0.0 { hi[axis] } else { lo[axis] };
+            t = t.min(((bound - o[axis]) / d[axis]).max(0.0));
+        }
+    }
+    t
+}
+
+/// Irradiance on a plane facing a directional light: the paper models the sun as a very
+/// distant point light of intensity I (W/sr) at `distance`, so E⊥ = I / distance².
+pub fn directional_irradiance(scene: &Scene) -> f32 {
+    scene.light.intensity / (scene.light.distance * scene.light.distance)
+}
+
+/// E_surface: the light's irradiance on the water at normal incidence (for a point light,
+/// on the water plane straight below it, at least 1 m away). The scale of the caustic
+/// buffer and of the tonemapping exposure.
+pub fn surface_irradiance(scene: &Scene) -> f32 {
+    match scene.light.kind {
+        LightKind::Directional => directional_irradiance(scene),
+        LightKind::Point => scene.light.intensity / (scene.light.position.y - scene.water.level).abs().max(1.0).powi(2),
+    }
+}
+
+/// Fraction of the direct irradiance that arrives as diffuse sky light (ambient under water).
+pub const AMBIENT_FRACTION: f32 = 0.1;
+
+impl FrameUniforms {
+    pub fn new(scene: &Scene, extents: &FrameExtents, time: f32) -> Self {
+        let aspect = extents.output[0] as f32 / extents.output[1] as f32;
+        let (view, proj) = camera_matrices(scene, aspect);
+        let light = light_frame(scene, aspect);
+        let c = &scene.camera;
+        let w = &scene.water;
+        let e = &scene.effects;
+        let caustic_photons = (e.caustic_grid * e.caustic_subdivision) as f32;
+        let godray_photons = (e.godray_grid * e.godray_subdivision) as f32;
+        let (kind, strength) = match scene.light.kind {
+            LightKind::Directional => (0.0, directional_irradiance(scene)),
+            LightKind::Point => (1.0, scene.light.intensity),
+        };
+        let surface_irradiance = surface_irradiance(scene);
+        let exposure = 2.0 * std::f32::consts::PI / surface_irradiance.max(1e-12);
+        let model = match w.model {
+            WaterModel::CircularCosine => WATER_CIRCULAR_COSINE,
+            WaterModel::AxisCosineNoise => WATER_AXIS_COSINE_NOISE,
+        } as f32;
+        let m = &scene.medium;
+        Self {
+            camera_view_proj: (proj * view).to_cols_array_2d(),
+            light_view_proj: light.view_proj.to_cols_array_2d(),
+            light_inv_view_proj: light.view_proj.inverse().to_cols_array_2d(),
+            camera_pos: [c.position.x, c.position.y, c.position.z, time],
+            camera_params: [c.z_near, c.z_far, (0.5 * c.fov_y_degrees.to_radians()).tan(), aspect],
+            light_pos: [light.position.x, light.position.y, light.position.z, kind],
+            light_dir: [light.axis.x, light.axis.y, light.axis.z, 0.0],
+            light_flux: [surface_irradiance, strength, light.half_extent[0], light.half_extent[1]],
+            water0: [w.level, w.amplitude, w.wavelength, w.speed],
+            water1: [w.noise_amplitude, w.noise_scale, w.ior, model],
+            water2: [w.center.x, w.center.y, w.extent_min.x, w.extent_min.y],
+            water3: [w.extent_max.x, w.extent_max.y, AMBIENT_FRACTION * surface_irradiance, exposure],
+            gamma: [m.gamma.x, m.gamma.y, m.gamma.z, m.scattering],
+            effect0: [e.point_size_min, e.point_size_max, e.line_width, m.hg_g],
+            effect1: [caustic_photons, godray_photons, e.iterations as f32, extents.light_map as f32],
+            effect2: [extents.max_point_size, extents.max_line_width, extents.caustic[0] as f32, extents.caustic[1] as f32],
+            effect3: [extents.godray[0] as f32, extents.godray[1] as f32, extents.output[0] as f32, extents.output[1] as f32],
+        }
+    }
+}

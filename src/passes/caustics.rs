@@ -1,0 +1,105 @@
+//! Caustics pass (method step 5): the photon grid, subdivided by the geometry shader,
+//! refracted at the water and intersected with the scene in image space; each photon that
+//! lands is splatted as a distance-sized point carrying an irradiance estimate, added into
+//! an RGBA16F target a fraction of the output's size (units: docs/units.md).
+
+use crate::error::{Error, Result};
+use crate::shader_math::MAX_SUBDIVISION;
+use crate::frame::bindings as b;
+use crate::vk::commands::FRAMES_IN_FLIGHT;
+use crate::vk::descriptors::{Binding, DescriptorSets};
+use crate::vk::device::Device;
+use crate::vk::image::Image;
+use crate::vk::pipeline::{set_viewport, Blend, GraphicsPipelineDesc, Pipeline};
+use crate::vk::render_pass::{Attachment, Load, RenderPass};
+use ash::vk;
+use std::sync::Arc;
+
+/// What the caustics shaders read: the water's noise, the light's receiver maps, and the
+/// scene's depth for the visibility test.
+pub const BINDINGS: &[(u32, Binding)] = &[
+    (b::UNIFORMS, Binding::Uniform),
+    (b::NOISE, Binding::Texture),
+    (b::LIGHT_POSITION, Binding::Texture),
+    (b::LIGHT_NORMAL, Binding::Texture),
+    (b::SCENE_DEPTH, Binding::Texture),
+];
+
+pub const TARGET_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
+
+pub struct CausticsPass {
+    pub grid: u32,
+    pub subdivision: u32,
+    pipeline: Pipeline,
+    render_pass: RenderPass,
+    pub target: Image,
+    /// This pass's descriptor sets (one per frame in flight), written by the frame.
+    pub sets: DescriptorSets,
+    device: Arc<Device>,
+}
+
+impl CausticsPass {
+    pub fn new(
+        device: &Arc<Device>,
+        extent: vk::Extent2D,
+        grid: u32,
+        subdivision: u32,
+    ) -> Result<Self> {
+        let sets = DescriptorSets::new(device, "caustics", BINDINGS, FRAMES_IN_FLIGHT as u32)?;
+        if subdivision == 0 || subdivision > MAX_SUBDIVISION {
+            return Err(Error::InvalidParameter {
+                name: "caustic_subdivision",
+                message: format!("{subdivision} is outside 1..={MAX_SUBDIVISION}"),
+            });
+        }
+        let target = Image::new(
+            device,
+            "caustics",
+            extent,
+            TARGET_FORMAT,
+            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC,
+        )?;
+        let render_pass = RenderPass::new(
+            device,
+            "caustics",
+            &[Attachment { image: &target, load: Load::Clear([0.0; 4]), final_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL }],
+            None,
+        )?;
+        let pipeline = Pipeline::graphics(
+            device,
+            &GraphicsPipelineDesc {
+                name: "caustics",
+                vertex: "photon_grid.vert",
+                geometry: Some("caustics.geom"),
+                fragment: "caustics.frag",
+                topology: vk::PrimitiveTopology::POINT_LIST,
+                blend: Blend::Additive,
+                color_attachments: 1,
+                depth_test: false,
+                depth_write: false,
+                specialization: &[(0, subdivision)],
+                push_constant_bytes: 4,
+                set_layouts: &[sets.layout],
+                render_pass: render_pass.raw,
+                dynamic_line_width: false,
+                vertex_stride: 0,
+                vertex_attributes: &[],
+            },
+        )?;
+        Ok(Self { grid, subdivision, pipeline, render_pass, target, sets, device: device.clone() })
+    }
+
+    pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize) {
+        let dev = &self.device;
+        let set = self.sets.sets[frame_index];
+        self.render_pass.begin(cmd);
+        set_viewport(dev, cmd, self.target.extent);
+        unsafe {
+            dev.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw);
+            dev.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.layout, 0, &[set], &[]);
+            dev.raw.cmd_push_constants(cmd, self.pipeline.layout, vk::ShaderStageFlags::ALL_GRAPHICS, 0, &self.grid.to_ne_bytes());
+            dev.raw.cmd_draw(cmd, self.grid * self.grid, 1, 0, 0);
+        }
+        self.render_pass.end(cmd);
+    }
+}

@@ -1,0 +1,104 @@
+//! Compose pass (method step 8): scene colour + caustics × albedo/π × transmittance +
+//! godrays, tonemapped into an sRGB target. The shader variant is chosen by which effects the
+//! frame has, so a missing effect's target is never bound.
+
+use crate::error::Result;
+use crate::frame::bindings as b;
+use crate::vk::commands::FRAMES_IN_FLIGHT;
+use crate::vk::descriptors::{Binding, DescriptorSets};
+use crate::vk::device::Device;
+use crate::vk::image::Image;
+use crate::vk::pipeline::{set_viewport, Blend, GraphicsPipelineDesc, Pipeline};
+use crate::vk::render_pass::{Attachment, Load, RenderPass};
+use ash::vk;
+use std::sync::Arc;
+
+pub const OUTPUT_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
+
+pub struct ComposePass {
+    pipeline: Pipeline,
+    render_pass: RenderPass,
+    pub output: Image,
+    /// This pass's descriptor sets (one per frame in flight), written by the frame.
+    pub sets: DescriptorSets,
+    device: Arc<Device>,
+}
+
+impl ComposePass {
+    /// What the chosen compose variant reads: only the targets the frame has.
+    pub fn bindings(caustics: bool, godrays: bool) -> Vec<(u32, Binding)> {
+        let mut v = vec![(b::UNIFORMS, Binding::Uniform), (b::SCENE_COLOR, Binding::Texture)];
+        if caustics {
+            v.push((b::ALBEDO_TRANSMITTANCE, Binding::Texture));
+            v.push((b::CAUSTICS, Binding::Texture));
+        }
+        if godrays {
+            v.push((b::GODRAYS, Binding::Texture));
+        }
+        v
+    }
+
+    pub fn new(
+        device: &Arc<Device>,
+        extent: vk::Extent2D,
+        caustics: bool,
+        godrays: bool,
+        final_layout: vk::ImageLayout,
+    ) -> Result<Self> {
+        let sets = DescriptorSets::new(device, "compose", &Self::bindings(caustics, godrays), FRAMES_IN_FLIGHT as u32)?;
+        let output = Image::new(
+            device,
+            "output",
+            extent,
+            OUTPUT_FORMAT,
+            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+        )?;
+        let render_pass = RenderPass::new(
+            device,
+            "compose",
+            &[Attachment { image: &output, load: Load::Clear([0.0, 0.0, 0.0, 1.0]), final_layout }],
+            None,
+        )?;
+        let fragment = match (caustics, godrays) {
+            (false, false) => "compose.frag",
+            (true, false) => "compose_caustics.frag",
+            (false, true) => "compose_godrays.frag",
+            (true, true) => "compose_caustics_godrays.frag",
+        };
+        let pipeline = Pipeline::graphics(
+            device,
+            &GraphicsPipelineDesc {
+                name: "compose",
+                vertex: "fullscreen.vert",
+                geometry: None,
+                fragment,
+                topology: vk::PrimitiveTopology::TRIANGLE_LIST,
+                blend: Blend::Opaque,
+                color_attachments: 1,
+                depth_test: false,
+                depth_write: false,
+                specialization: &[],
+                push_constant_bytes: 0,
+                set_layouts: &[sets.layout],
+                render_pass: render_pass.raw,
+                dynamic_line_width: false,
+                vertex_stride: 0,
+                vertex_attributes: &[],
+            },
+        )?;
+        Ok(Self { pipeline, render_pass, output, sets, device: device.clone() })
+    }
+
+    pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize) {
+        let dev = &self.device;
+        let set = self.sets.sets[frame_index];
+        self.render_pass.begin(cmd);
+        set_viewport(dev, cmd, self.output.extent);
+        unsafe {
+            dev.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw);
+            dev.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.layout, 0, &[set], &[]);
+            dev.raw.cmd_draw(cmd, 3, 1, 0, 0);
+        }
+        self.render_pass.end(cmd);
+    }
+}

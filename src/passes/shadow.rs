@@ -1,0 +1,90 @@
+//! Shadow pass (method step 2): the scene from the light. Besides depth it stores, per
+//! texel, the world position of the nearest receiver (Shah's position texture, for the
+//! image-space intersection) and its normal (for the caustic splat's footprint). The water
+//! mask the paper makes optional is derived from the position map instead (see photon.glsl).
+
+use crate::error::Result;
+use crate::frame::mesh::{GpuMeshes, MESH_ATTRIBUTES};
+use crate::frame::bindings as b;
+use crate::vk::commands::FRAMES_IN_FLIGHT;
+use crate::vk::descriptors::{Binding, DescriptorSets};
+use crate::vk::device::Device;
+use crate::vk::image::Image;
+use crate::vk::pipeline::{set_viewport, Blend, GraphicsPipelineDesc, Pipeline};
+use crate::vk::render_pass::{Attachment, Load, RenderPass};
+use ash::vk;
+use std::sync::Arc;
+
+/// What the shadow pass's shaders read (glsl/frame_textures.glsl numbering).
+pub const BINDINGS: &[(u32, Binding)] = &[(b::UNIFORMS, Binding::Uniform)];
+
+pub struct ShadowPass {
+    pipeline: Pipeline,
+    render_pass: RenderPass,
+    pub position: Image,
+    pub normal: Image,
+    depth: Image,
+    /// This pass's descriptor sets (one per frame in flight), written by the frame.
+    pub sets: DescriptorSets,
+    device: Arc<Device>,
+}
+
+impl ShadowPass {
+    pub fn new(device: &Arc<Device>, size: u32) -> Result<Self> {
+        let sets = DescriptorSets::new(device, "shadow", BINDINGS, FRAMES_IN_FLIGHT as u32)?;
+        let extent = vk::Extent2D { width: size, height: size };
+        let sampled = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC;
+        let position = Image::new(device, "light position map", extent, vk::Format::R32G32B32A32_SFLOAT, sampled)?;
+        let normal = Image::new(device, "light normal map", extent, vk::Format::R16G16B16A16_SFLOAT, sampled)?;
+        let depth = Image::new(device, "light depth", extent, vk::Format::D32_SFLOAT, vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT)?;
+        let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+        let render_pass = RenderPass::new(
+            device,
+            "shadow",
+            &[
+                Attachment { image: &position, load: Load::Clear([0.0; 4]), final_layout: read },
+                Attachment { image: &normal, load: Load::Clear([0.0; 4]), final_layout: read },
+            ],
+            Some(&Attachment {
+                image: &depth,
+                load: Load::Clear([1.0; 4]),
+                final_layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+            }),
+        )?;
+        let pipeline = Pipeline::graphics(
+            device,
+            &GraphicsPipelineDesc {
+                name: "shadow",
+                vertex: "shadow.vert",
+                geometry: None,
+                fragment: "shadow.frag",
+                topology: vk::PrimitiveTopology::TRIANGLE_LIST,
+                blend: Blend::Opaque,
+                color_attachments: 2,
+                depth_test: true,
+                depth_write: true,
+                specialization: &[],
+                push_constant_bytes: 0,
+                set_layouts: &[sets.layout],
+                render_pass: render_pass.raw,
+                dynamic_line_width: false,
+                vertex_stride: std::mem::size_of::<crate::frame::mesh::MeshVertex>() as u32,
+                vertex_attributes: &MESH_ATTRIBUTES[..2],
+            },
+        )?;
+        Ok(Self { pipeline, render_pass, position, normal, depth, sets, device: device.clone() })
+    }
+
+    pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize, meshes: &GpuMeshes) {
+        let dev = &self.device;
+        let set = self.sets.sets[frame_index];
+        self.render_pass.begin(cmd);
+        set_viewport(dev, cmd, self.depth.extent);
+        unsafe {
+            dev.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw);
+            dev.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.layout, 0, &[set], &[]);
+        }
+        meshes.draw(dev, cmd);
+        self.render_pass.end(cmd);
+    }
+}

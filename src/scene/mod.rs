@@ -1,0 +1,180 @@
+//! Scenes: what the frame renders. Built-in scenes are scene files too (`assets/scenes/`).
+//!
+//! Conventions: metres, right-handed, **y up**; the water's mean plane is `y = water.level`
+//! and "under water" is below it. Everything here is world space and validated: the
+//! renderer may assume finite values inside the documented ranges.
+
+pub mod file;
+pub mod generate;
+pub mod obj;
+
+use glam::{Vec2, Vec3};
+
+pub use file::{load, load_str, BUILTIN_SCENES};
+
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub name: String,
+    /// Default output resolution (width, height).
+    pub output: [u32; 2],
+    pub camera: Camera,
+    pub light: Light,
+    pub water: Water,
+    pub medium: Medium,
+    pub effects: Effects,
+    /// World-space triangle meshes, one per OBJ object/material group.
+    pub meshes: Vec<Mesh>,
+}
+
+#[derive(Clone, Debug)]
+pub struct Mesh {
+    pub name: String,
+    pub positions: Vec<Vec3>,
+    /// Per-vertex unit normals, same length as `positions` (computed when the OBJ has none).
+    pub normals: Vec<Vec3>,
+    /// Triangle list indices into `positions`/`normals`.
+    pub indices: Vec<u32>,
+    /// Diffuse albedo (MTL `Kd`), linear RGB in [0, 1].
+    pub albedo: Vec3,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    pub position: Vec3,
+    pub look_at: Vec3,
+    /// Vertical field of view, degrees, in (0, 180).
+    pub fov_y_degrees: f32,
+    pub z_near: f32,
+    pub z_far: f32,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LightKind {
+    /// Infinitely far; `direction` is the direction light travels (unit, pointing down-ish).
+    /// Its position tracks the camera (method step 1).
+    Directional,
+    /// At `position`, fixed.
+    Point,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Light {
+    pub kind: LightKind,
+    /// Directional: unit direction of travel. Point: ignored.
+    pub direction: Vec3,
+    /// Point: position. Directional: ignored.
+    pub position: Vec3,
+    /// Radiant intensity, W/sr (the paper: 9.2).
+    pub intensity: f32,
+    /// Directional only: distance from the point it looks at to where the tracking light sits.
+    pub distance: f32,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WaterModel {
+    /// Circular cosine waves around `center`, plus a small Perlin-noise contribution.
+    CircularCosine,
+    /// Cosine along the x axis plus a strong Perlin-noise contribution.
+    AxisCosineNoise,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Water {
+    pub model: WaterModel,
+    /// Height of the mean plane, m.
+    pub level: f32,
+    /// Cosine amplitude, m (0: flat unless noise is on).
+    pub amplitude: f32,
+    /// Cosine wavelength, m (> 0).
+    pub wavelength: f32,
+    /// Phase speed, m/s.
+    pub speed: f32,
+    /// Perlin-noise amplitude, m.
+    pub noise_amplitude: f32,
+    /// Size of one noise-texture tile, m (> 0).
+    pub noise_scale: f32,
+    /// Origin (x, z) of circular waves.
+    pub center: Vec2,
+    /// The water covers the rectangle [extent_min, extent_max] in (x, z).
+    pub extent_min: Vec2,
+    pub extent_max: Vec2,
+    /// Refractive index of the water (air is 1); the paper: 1.333.
+    pub ior: f32,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Medium {
+    /// Attenuation coefficient γ per RGB channel, 1/m (the paper: 0.13 for all).
+    pub gamma: Vec3,
+    /// Scattering coefficient σ_s, 1/m; 0 means no godrays.
+    pub scattering: f32,
+    /// Henyey–Greenstein asymmetry g in (-1, 1).
+    pub hg_g: f32,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Effects {
+    pub caustics: bool,
+    pub godrays: bool,
+    pub filter: bool,
+    /// Coarse caustic photon grid per axis (the paper: 200) and GS subdivision (2).
+    pub caustic_grid: u32,
+    pub caustic_subdivision: u32,
+    /// Godray grid (100) and subdivision (2).
+    pub godray_grid: u32,
+    pub godray_subdivision: u32,
+    /// Effect targets as a fraction of the output size per axis (the paper: 512/800, 128/800).
+    pub caustic_target_scale: f32,
+    pub godray_target_scale: f32,
+    /// Point size at the far plane and at the near plane, px (the paper: 5 and 20).
+    pub point_size_min: f32,
+    pub point_size_max: f32,
+    /// Godray line width, px.
+    pub line_width: f32,
+    /// Image-space intersection iterations.
+    pub iterations: u32,
+    /// Side of the light-space maps (shadow depth, receiver positions, water mask), texels.
+    pub shadow_map_size: u32,
+}
+
+impl Default for Medium {
+    fn default() -> Self {
+        Self { gamma: Vec3::splat(0.13), scattering: 0.05, hg_g: 0.5 }
+    }
+}
+
+impl Default for Effects {
+    fn default() -> Self {
+        Self {
+            caustics: true,
+            godrays: true,
+            filter: true,
+            caustic_grid: 200,
+            caustic_subdivision: 2,
+            godray_grid: 100,
+            godray_subdivision: 2,
+            caustic_target_scale: 0.64,
+            godray_target_scale: 0.16,
+            point_size_min: 5.0,
+            point_size_max: 20.0,
+            line_width: 1.0,
+            iterations: 5,
+            shadow_map_size: 1024,
+        }
+    }
+}
+
+impl Scene {
+    /// Axis-aligned bounds of all meshes (min, max).
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        let mut lo = Vec3::splat(f32::INFINITY);
+        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        for m in &self.meshes {
+            for p in &m.positions {
+                lo = lo.min(*p);
+                hi = hi.max(*p);
+            }
+        }
+        (lo, hi)
+    }
+}
