@@ -9,13 +9,15 @@
 
 layout(set = 0, binding = BINDING_SCENE_DEPTH) uniform sampler2D scene_depth;
 
-layout(location = 0) in vec3 g_world;
-layout(location = 1) in float g_from_surface;
-layout(location = 2) flat in vec3 g_direction;
-layout(location = 3) flat in float g_flux;
+layout(location = 0) in vec4 g_world_travelled;
+layout(location = 1) flat in vec4 g_beam;
 layout(location = 0) out vec4 out_radiance;
 
 void main() {
+    vec3 g_world = g_world_travelled.xyz;
+    float g_from_surface = g_world_travelled.w;
+    vec3 g_direction = g_beam.xyz;
+    float g_flux = g_beam.w;
     float view_depth = 1.0 / gl_FragCoord.w;
     vec2 uv = gl_FragCoord.xy / frame.effect3.xy;
     float scene_z = linear_view_depth(texture(scene_depth, uv).r);

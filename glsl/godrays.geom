@@ -4,17 +4,19 @@
 #include "photon.glsl"
 
 layout(points) in;
-// 2 vertices × GODRAY_MAX_SUBDIVISION² photons; each vertex carries 12 components, so
+// 2 vertices × GODRAY_MAX_SUBDIVISION² photons; each vertex carries 12 components (3 vec4s), so
 // 72 vertices stay within the 1024 output components every geometry-shader device offers.
 layout(line_strip, max_vertices = 72) out;
 layout(constant_id = 0) const uint SUBDIVISION = 2;
 layout(push_constant) uniform GridPush { uint grid; } pc;
 
 layout(location = 0) flat in uvec2 v_cell[];
-layout(location = 0) out vec3 g_world;           // fragment's world position (interpolated)
-layout(location = 1) out float g_from_surface;   // distance travelled under water, m
-layout(location = 2) flat out vec3 g_direction;  // r_t
-layout(location = 3) flat out float g_flux;      // W (after the surface, before attenuation)
+// Only gl_Position of the built-in block (the full block adds point size and clip/cull
+// distances to every vertex's component count).
+out gl_PerVertex { vec4 gl_Position; };
+// Packed into two vec4 locations: the component budget counts whole locations.
+layout(location = 0) out vec4 g_world_travelled;   // world position; w: distance from the surface, m
+layout(location = 1) flat out vec4 g_beam;         // xyz: r_t; w: flux, W (after the surface)
 
 void main() {
     float photons_per_axis = float(pc.grid * SUBDIVISION);
@@ -28,17 +30,13 @@ void main() {
             // Lines crossing the camera plane would need clipping against it in world space;
             // the rasteriser clips lines properly, so only drop lines entirely behind.
             if (a.w <= frame.camera_params.x && b.w <= frame.camera_params.x) continue;
-            g_direction = ph.direction;
-            g_flux = ph.flux;
+            g_beam = vec4(ph.direction, ph.flux);
             gl_Position = a;
-            g_world = ph.surface;
-            g_from_surface = 0.0;
+            g_world_travelled = vec4(ph.surface, 0.0);
             EmitVertex();
-            g_direction = ph.direction;
-            g_flux = ph.flux;
+            g_beam = vec4(ph.direction, ph.flux);
             gl_Position = b;
-            g_world = ph.hit;
-            g_from_surface = ph.travelled;
+            g_world_travelled = vec4(ph.hit, ph.travelled);
             EmitVertex();
             EndPrimitive();
         }

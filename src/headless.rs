@@ -87,8 +87,13 @@ pub struct SceneImages {
     pub scene_color: HdrImage,
     /// albedo/π × water transmittance to the camera, per output pixel.
     pub albedo_transmittance: HdrImage,
-    /// Caustic irradiance (W/m²) at the caustic target's size, when the frame has caustics.
+    /// Caustic irradiance (W/m²) at the caustic target's size, when the frame has caustics,
+    /// before and after the filter.
     pub caustics: Option<HdrImage>,
+    pub caustics_filtered: Option<HdrImage>,
+    /// Godray radiance (W/(m²·sr)) at the godray target's size, before and after the filter.
+    pub godrays: Option<HdrImage>,
+    pub godrays_filtered: Option<HdrImage>,
 }
 
 /// A scene's frame with its ring of frames in flight and read-backs, kept alive across
@@ -99,7 +104,8 @@ pub struct SceneRenderer {
     output: Readback,
     scene_color: Readback,
     albedo_transmittance: Readback,
-    caustics: Option<Readback>,
+    /// Photon buffers in order: caustics, filtered caustics, godrays, filtered godrays.
+    effects: [Option<Readback>; 4],
 }
 
 impl SceneRenderer {
@@ -109,8 +115,11 @@ impl SceneRenderer {
         let output = Readback::new(device, &frame.compose.output)?;
         let scene_color = Readback::new(device, &frame.scene_pass.color)?;
         let albedo_transmittance = Readback::new(device, &frame.scene_pass.albedo_transmittance)?;
-        let caustics = frame.caustics.as_ref().map(|c| Readback::new(device, &c.target)).transpose()?;
-        Ok(Self { frame, ring, output, scene_color, albedo_transmittance, caustics })
+        let mut effects: [Option<Readback>; 4] = Default::default();
+        for (slot, image) in effects.iter_mut().zip(effect_images(&frame)) {
+            *slot = image.map(|i| Readback::new(device, i)).transpose()?;
+        }
+        Ok(Self { frame, ring, output, scene_color, albedo_transmittance, effects })
     }
 
     /// Renders `frames` frames at times `t0 + k·dt`; with `read_back`, the last frame's
@@ -124,14 +133,16 @@ impl SceneRenderer {
             if read_back && f + 1 == frames {
                 let cmd = slot.cmd;
                 let frame = &self.frame;
-                let (out, sc, at, ca) = (&self.output, &self.scene_color, &self.albedo_transmittance, &self.caustics);
+                let (out, sc, at, fx) = (&self.output, &self.scene_color, &self.albedo_transmittance, &self.effects);
                 slot.timer.pass(cmd, PassId::Readback, |cmd| {
                     let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
                     out.record(cmd, &frame.compose.output);
                     sc.record_from(cmd, &frame.scene_pass.color, read);
                     at.record_from(cmd, &frame.scene_pass.albedo_transmittance, read);
-                    if let (Some(rb), Some(c)) = (ca, &frame.caustics) {
-                        rb.record_from(cmd, &c.target, read);
+                    for (rb, image) in fx.iter().zip(effect_images(frame)) {
+                        if let (Some(rb), Some(image)) = (rb, image) {
+                            rb.record_from(cmd, image, read);
+                        }
                     }
                 });
             }
@@ -145,29 +156,42 @@ impl SceneRenderer {
             return Ok((timings, None));
         }
         let e = self.frame.compose.output.extent;
+        // Photon buffers store values relative to E_surface (half-float precision); report
+        // them in physical units.
+        let e_surface = crate::frame::uniforms::surface_irradiance(self.frame.scene());
+        let effect = |i: usize| -> Result<Option<HdrImage>> {
+            let Some(rb) = &self.effects[i] else { return Ok(None) };
+            let mut img = rb.read()?;
+            for p in &mut img.pixels {
+                for c in &mut p[..3] {
+                    *c *= e_surface;
+                }
+            }
+            Ok(Some(img))
+        };
         let images = SceneImages {
             output: self.output.bytes().to_vec(),
             width: e.width,
             height: e.height,
             scene_color: self.scene_color.read()?,
             albedo_transmittance: self.albedo_transmittance.read()?,
-            caustics: match &self.caustics {
-                // The buffer stores irradiance relative to E_surface; report W/m².
-                Some(r) => {
-                    let mut img = r.read()?;
-                    let e = crate::frame::uniforms::surface_irradiance(self.frame.scene());
-                    for p in &mut img.pixels {
-                        for c in &mut p[..3] {
-                            *c *= e;
-                        }
-                    }
-                    Some(img)
-                }
-                None => None,
-            },
+            caustics: effect(0)?,
+            caustics_filtered: effect(1)?,
+            godrays: effect(2)?,
+            godrays_filtered: effect(3)?,
         };
         Ok((timings, Some(images)))
     }
+}
+
+/// The frame's photon buffers in `SceneRenderer::effects` order.
+fn effect_images(frame: &Frame) -> [Option<&crate::vk::image::Image>; 4] {
+    [
+        frame.caustics.as_ref().map(|c| &c.target),
+        frame.caustic_filter.as_ref().map(|f| &f.output),
+        frame.godrays.as_ref().map(|g| &g.target),
+        frame.godray_filter.as_ref().map(|f| &f.output),
+    ]
 }
 
 /// Renders `frames` frames of the grid-splat pass and reads back the last.

@@ -222,8 +222,15 @@ fn render_scene(cli: &Cli, args: &SceneArgs) -> Result<i32> {
     println!("wrote {}", args.out.display());
     if let Some(dir) = &args.hdr {
         let mut dumps = vec![("scene_color", &images.scene_color), ("albedo_transmittance", &images.albedo_transmittance)];
-        if let Some(c) = &images.caustics {
-            dumps.push(("caustics", c));
+        for (name, img) in [
+            ("caustics", &images.caustics),
+            ("caustics_filtered", &images.caustics_filtered),
+            ("godrays", &images.godrays),
+            ("godrays_filtered", &images.godrays_filtered),
+        ] {
+            if let Some(img) = img {
+                dumps.push((name, img));
+            }
         }
         for (name, img) in dumps {
             let path = dir.join(format!("{name}.pfm"));

@@ -8,6 +8,11 @@ use std::f32::consts::PI;
 /// `MAX_SUBDIVISION`; the geometry shader's `max_vertices` is its square).
 pub const MAX_SUBDIVISION: u32 = 8;
 
+/// Largest godray subdivision: each photon emits a 2-vertex line of 12 components, and
+/// 2 × 6² × 12 = 864 stays within the 1024 output components every geometry-shader device
+/// offers (`max_vertices = 72` in godrays.geom).
+pub const GODRAY_MAX_SUBDIVISION: u32 = 6;
+
 /// See `photon_grid_uv` in common.glsl.
 pub fn photon_grid_uv(cell: UVec2, sub: UVec2, subdiv: u32, grid: UVec2) -> Vec2 {
     (cell.as_vec2() + (sub.as_vec2() + 0.5) / subdiv as f32) / grid.as_vec2()

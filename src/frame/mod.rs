@@ -2,7 +2,7 @@
 //!
 //! `FramePlan` derives the passes from the scene (model only what the scene requires);
 //! `Frame` creates exactly those passes and targets, and records them in method order:
-//! shadow → scene → caustics → compose, each through the timing wrapper.
+//! shadow → scene → caustics → godrays → filter → compose, each through the timing wrapper.
 
 pub mod mesh;
 pub mod uniforms;
@@ -10,6 +10,8 @@ pub mod uniforms;
 use crate::error::Result;
 use crate::passes::caustics::CausticsPass;
 use crate::passes::compose::ComposePass;
+use crate::passes::filter::FilterPass;
+use crate::passes::godrays::GodraysPass;
 use crate::passes::scene::ScenePass;
 use crate::passes::shadow::ShadowPass;
 use crate::passes::PassId;
@@ -70,16 +72,35 @@ impl FramePlan {
                 100.0 * scene.effects.caustic_target_scale
             )
         };
-        // Godrays and filtering arrive in later work; the plan already says why they are off.
+        let scatters = scene.medium.scattering > 0.0;
+        let godrays = scene.effects.godrays && scatters && below;
         let godrays_why = if !scene.effects.godrays {
             "off in the scene's effects".to_string()
-        } else if scene.medium.scattering <= 0.0 {
+        } else if !scatters {
             "the medium does not scatter (scattering = 0)".to_string()
+        } else if !below {
+            "no receiver below the water ends a beam".to_string()
         } else {
-            "not implemented yet".to_string()
+            format!(
+                "the medium scatters (σs = {} /m); {}² cells × {}² beams into {:.0}% of the output",
+                scene.medium.scattering,
+                scene.effects.godray_grid,
+                scene.effects.godray_subdivision,
+                100.0 * scene.effects.godray_target_scale
+            )
         };
-        let filter_why = if !scene.effects.filter { "off in the scene's effects" } else { "not implemented yet" };
-        let shadow = caustics;
+        let filter = scene.effects.filter && (caustics || godrays);
+        let filter_why = if !scene.effects.filter {
+            "off in the scene's effects".to_string()
+        } else if !filter {
+            "no photon buffer to filter".to_string()
+        } else {
+            format!(
+                "low-pass over the {} buffer(s)",
+                [(caustics, "caustic"), (godrays, "godray")].iter().filter(|e| e.0).map(|e| e.1).collect::<Vec<_>>().join(" and ")
+            )
+        };
+        let shadow = caustics || godrays;
         let mut decisions = vec![
             (
                 PassId::Shadow,
@@ -92,8 +113,8 @@ impl FramePlan {
             ),
             (PassId::Scene, true, "camera colour and depth are always needed".to_string()),
             (PassId::Caustics, caustics, caustics_why),
-            (PassId::Godrays, false, godrays_why),
-            (PassId::Filter, false, filter_why.to_string()),
+            (PassId::Godrays, godrays, godrays_why),
+            (PassId::Filter, filter, filter_why),
             (PassId::Compose, true, "the output image".to_string()),
         ];
         decisions.sort_by_key(|d| d.0);
@@ -131,6 +152,12 @@ pub fn frame_extents(scene: &Scene, output: vk::Extent2D, device: &Device) -> Fr
     }
 }
 
+/// Filter kernel radii, pixels of each buffer. The caustic radius is about half the paper's
+/// smallest splat (5 px), enough to close the gaps between sparse photons without blurring
+/// caustic lines much; the godray buffer is small, so a smaller radius.
+pub const CAUSTIC_FILTER_RADIUS_PX: f32 = 2.5;
+pub const GODRAY_FILTER_RADIUS_PX: f32 = 1.5;
+
 pub struct Frame {
     pub plan: FramePlan,
     pub extents: FrameExtents,
@@ -139,6 +166,10 @@ pub struct Frame {
     pub shadow: Option<ShadowPass>,
     pub scene_pass: ScenePass,
     pub caustics: Option<CausticsPass>,
+    pub godrays: Option<GodraysPass>,
+    /// Filters of the caustic and godray buffers, when the plan filters.
+    pub caustic_filter: Option<FilterPass>,
+    pub godray_filter: Option<FilterPass>,
     pub compose: ComposePass,
     uniforms: Vec<Buffer>,
     meshes: GpuMeshes,
@@ -184,7 +215,23 @@ impl Frame {
         } else {
             None
         };
-        let compose = ComposePass::new(device, output, caustics.is_some(), false, output_layout)?;
+        let godrays = if plan.runs(PassId::Godrays) {
+            let e = &scene.effects;
+            let ext = vk::Extent2D { width: extents.godray[0], height: extents.godray[1] };
+            Some(GodraysPass::new(device, ext, e.godray_grid, e.godray_subdivision, e.line_width)?)
+        } else {
+            None
+        };
+        let filtering = plan.runs(PassId::Filter);
+        let caustic_filter = match (&caustics, filtering) {
+            (Some(c), true) => Some(FilterPass::new(device, "caustics filter", &c.target, CAUSTIC_FILTER_RADIUS_PX)?),
+            _ => None,
+        };
+        let godray_filter = match (&godrays, filtering) {
+            (Some(g), true) => Some(FilterPass::new(device, "godrays filter", &g.target, GODRAY_FILTER_RADIUS_PX)?),
+            _ => None,
+        };
+        let compose = ComposePass::new(device, output, caustics.is_some(), godrays.is_some(), output_layout)?;
 
         // Each pass declared the bindings its shaders read; fill them from what this frame
         // made. A binding whose producer is not in the plan would be a bug in the plan.
@@ -199,14 +246,24 @@ impl Frame {
                 bindings::SCENE_DEPTH => tex(&scene_pass.depth, &nearest),
                 bindings::SCENE_COLOR => tex(&scene_pass.color, &nearest),
                 bindings::ALBEDO_TRANSMITTANCE => tex(&scene_pass.albedo_transmittance, &nearest),
-                // Effect targets are smaller than the output: upsample bilinearly.
-                bindings::CAUSTICS => tex(&caustics.as_ref().expect("plan: compose reads caustics").target, &linear),
+                // Effect targets are smaller than the output: upsample bilinearly. Compose reads
+                // the filtered buffer when there is one.
+                bindings::CAUSTICS => match (&caustic_filter, &caustics) {
+                    (Some(f), _) => tex(&f.output, &linear),
+                    (None, Some(c)) => tex(&c.target, &linear),
+                    _ => panic!("plan: compose reads caustics the frame lacks"),
+                },
+                bindings::GODRAYS => match (&godray_filter, &godrays) {
+                    (Some(f), _) => tex(&f.output, &linear),
+                    (None, Some(g)) => tex(&g.target, &linear),
+                    _ => panic!("plan: compose reads godrays the frame lacks"),
+                },
                 other => panic!("no resource for binding {other}"),
             }
         };
         let mut pass_sets: Vec<(&DescriptorSets, Vec<(u32, Binding)>)> = vec![
             (&scene_pass.sets, crate::passes::scene::BINDINGS.to_vec()),
-            (&compose.sets, ComposePass::bindings(caustics.is_some(), false)),
+            (&compose.sets, ComposePass::bindings(caustics.is_some(), godrays.is_some())),
         ];
         if let Some(s) = &shadow {
             pass_sets.push((&s.sets, crate::passes::shadow::BINDINGS.to_vec()));
@@ -214,9 +271,23 @@ impl Frame {
         if let Some(c) = &caustics {
             pass_sets.push((&c.sets, crate::passes::caustics::BINDINGS.to_vec()));
         }
+        if let Some(g) = &godrays {
+            pass_sets.push((&g.sets, crate::passes::godrays::BINDINGS.to_vec()));
+        }
         for (sets, list) in pass_sets {
             for frame in 0..FRAMES_IN_FLIGHT {
                 sets.write_at(frame, list.iter().map(|(b, _)| (*b as usize, resource(*b, frame))).collect());
+            }
+        }
+        // Each filter instance reads its own effect buffer through the one input binding.
+        for (filter, input) in [
+            (&caustic_filter, caustics.as_ref().map(|c| &c.target)),
+            (&godray_filter, godrays.as_ref().map(|g| &g.target)),
+        ] {
+            if let (Some(f), Some(input)) = (filter, input) {
+                for frame in 0..FRAMES_IN_FLIGHT {
+                    f.sets.write_at(frame, vec![(bindings::FILTER_INPUT as usize, tex(input, &linear))]);
+                }
             }
         }
         Ok(Self {
@@ -226,6 +297,9 @@ impl Frame {
             shadow,
             scene_pass,
             caustics,
+            godrays,
+            caustic_filter,
+            godray_filter,
             compose,
             uniforms,
             meshes,
@@ -253,6 +327,16 @@ impl Frame {
         slot.timer.pass(cmd, PassId::Scene, |cmd| self.scene_pass.record(cmd, i, &self.meshes));
         if let Some(caustics) = &self.caustics {
             slot.timer.pass(cmd, PassId::Caustics, |cmd| caustics.record(cmd, i));
+        }
+        if let Some(godrays) = &self.godrays {
+            slot.timer.pass(cmd, PassId::Godrays, |cmd| godrays.record(cmd, i));
+        }
+        if self.caustic_filter.is_some() || self.godray_filter.is_some() {
+            slot.timer.pass(cmd, PassId::Filter, |cmd| {
+                for f in self.caustic_filter.iter().chain(&self.godray_filter) {
+                    f.record(cmd, i);
+                }
+            });
         }
         slot.timer.pass(cmd, PassId::Compose, |cmd| self.compose.record(cmd, i));
     }

@@ -3,6 +3,8 @@
 
 pub mod caustics;
 pub mod compose;
+pub mod filter;
+pub mod godrays;
 pub mod grid_splat;
 pub mod scene;
 pub mod shadow;

@@ -1,0 +1,99 @@
+//! Godrays pass (method step 6): photons cast on their own, coarser grid; each one that
+//! lands becomes a line from the water surface to its hit, whose fragments add the beam's
+//! in-scattered radiance (Henyey–Greenstein phase, attenuation along both legs) into a
+//! low-resolution RGBA16F target. Units: docs/units.md.
+
+use crate::error::{Error, Result};
+use crate::frame::bindings as b;
+use crate::shader_math::GODRAY_MAX_SUBDIVISION;
+use crate::vk::commands::FRAMES_IN_FLIGHT;
+use crate::vk::descriptors::{Binding, DescriptorSets};
+use crate::vk::device::Device;
+use crate::vk::image::Image;
+use crate::vk::pipeline::{set_viewport, Blend, GraphicsPipelineDesc, Pipeline};
+use crate::vk::render_pass::{Attachment, Load, RenderPass};
+use ash::vk;
+use std::sync::Arc;
+
+/// What the godray shaders read: the water's noise, the light's position map, scene depth.
+pub const BINDINGS: &[(u32, Binding)] = &[
+    (b::UNIFORMS, Binding::Uniform),
+    (b::NOISE, Binding::Texture),
+    (b::LIGHT_POSITION, Binding::Texture),
+    (b::SCENE_DEPTH, Binding::Texture),
+];
+
+pub struct GodraysPass {
+    pub grid: u32,
+    /// Line width actually drawn, px (the scene's, clamped to the device's range).
+    pub line_width: f32,
+    pipeline: Pipeline,
+    render_pass: RenderPass,
+    pub target: Image,
+    pub sets: DescriptorSets,
+    device: Arc<Device>,
+}
+
+impl GodraysPass {
+    pub fn new(device: &Arc<Device>, extent: vk::Extent2D, grid: u32, subdivision: u32, line_width: f32) -> Result<Self> {
+        if subdivision == 0 || subdivision > GODRAY_MAX_SUBDIVISION {
+            return Err(Error::InvalidParameter {
+                name: "godray_subdivision",
+                message: format!("{subdivision} is outside 1..={GODRAY_MAX_SUBDIVISION}"),
+            });
+        }
+        let [lo, hi] = device.limits().line_width_range;
+        let line_width = line_width.clamp(lo.max(1.0), hi);
+        let sets = DescriptorSets::new(device, "godrays", BINDINGS, FRAMES_IN_FLIGHT as u32)?;
+        let target = Image::new(
+            device,
+            "godrays",
+            extent,
+            vk::Format::R16G16B16A16_SFLOAT,
+            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC,
+        )?;
+        let render_pass = RenderPass::new(
+            device,
+            "godrays",
+            &[Attachment { image: &target, load: Load::Clear([0.0; 4]), final_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL }],
+            None,
+        )?;
+        let pipeline = Pipeline::graphics(
+            device,
+            &GraphicsPipelineDesc {
+                name: "godrays",
+                vertex: "photon_grid.vert",
+                geometry: Some("godrays.geom"),
+                fragment: "godrays.frag",
+                topology: vk::PrimitiveTopology::POINT_LIST,
+                blend: Blend::Additive,
+                color_attachments: 1,
+                depth_test: false,
+                depth_write: false,
+                specialization: &[(0, subdivision)],
+                push_constant_bytes: 4,
+                set_layouts: &[sets.layout],
+                render_pass: render_pass.raw,
+                dynamic_line_width: true,
+                vertex_stride: 0,
+                vertex_attributes: &[],
+            },
+        )?;
+        Ok(Self { grid, line_width, pipeline, render_pass, target, sets, device: device.clone() })
+    }
+
+    pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize) {
+        let dev = &self.device;
+        let set = self.sets.sets[frame_index];
+        self.render_pass.begin(cmd);
+        set_viewport(dev, cmd, self.target.extent);
+        unsafe {
+            dev.raw.cmd_set_line_width(cmd, self.line_width);
+            dev.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw);
+            dev.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.layout, 0, &[set], &[]);
+            dev.raw.cmd_push_constants(cmd, self.pipeline.layout, vk::ShaderStageFlags::ALL_GRAPHICS, 0, &self.grid.to_ne_bytes());
+            dev.raw.cmd_draw(cmd, self.grid * self.grid, 1, 0, 0);
+        }
+        self.render_pass.end(cmd);
+    }
+}
