@@ -22,7 +22,7 @@ void main() {
     L += texture(albedo_transmittance, v_uv).rgb * texture(caustics, v_uv).rgb * frame.light_flux.x;
 #endif
 #ifdef HAS_GODRAYS
-    L += texture(godrays, v_uv).rgb;
+    L += texture(godrays, v_uv).rgb * frame.light_flux.x; // stored relative to E_surface too
 #endif
     // 1 − e^(−exposure·L): linear in the shadows, rolls highlights off. The target is sRGB,
     // so the hardware encodes.

@@ -79,28 +79,37 @@ pub fn light_frame(scene: &Scene, aspect: f32) -> LightFrame {
     let far = c.z_far.min(radius * 2.0);
     let p_mid = c.position + 0.5 * (c.z_near + far) * forward;
 
-    // The region the photons must cover: what the camera can see. Each corner ray of the
-    // view frustum runs from the near plane until it leaves the scene's bounds (or reaches
-    // the far plane); the near-plane corners and those exit points span the visible region.
-    let (view, proj) = camera_matrices(scene, aspect);
-    let inv = (proj * view).inverse();
-    let mut corners = Vec::with_capacity(8);
-    for &(x, y) in &[(-1.0f32, -1.0f32), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
-        let near = inv * Vec4::new(x, y, 0.0, 1.0);
-        let near = near.truncate() / near.w;
-        let dir = (near - c.position).normalize();
-        let exit = ray_box_exit(c.position, dir, lo, hi).clamp(c.z_near, far);
-        corners.push(near.clamp(lo, hi));
-        corners.push((c.position + dir * exit).clamp(lo, hi));
-    }
-    // The depth range must hold the scene and the water surface above it (photon rays start
-    // at the light's near plane and must cross the surface inside the frustum).
+    // The bounds of the scene and of its water: the depth range must hold the surface (photon
+    // rays start at the light's near plane and must cross it inside the frustum), and the
+    // camera may look through water with no receiver near.
     let w = &scene.water;
     let reach = w.amplitude.abs() + w.noise_amplitude.abs() + 0.01;
     let (lo_all, hi_all) = (
         lo.min(Vec3::new(w.extent_min.x, w.level - reach, w.extent_min.y)),
         hi.max(Vec3::new(w.extent_max.x, w.level + reach, w.extent_max.y)),
     );
+
+    // The region the photons must cover: what the camera can see. A grid of view rays runs
+    // from the near plane until each leaves the bounds of the scene and its water (or
+    // reaches the far plane); their near points and exit points span the visible region.
+    // (The four corner rays alone are not enough: they may leave the water within a metre
+    // while the centre of the view looks across the whole pool.)
+    let (view, proj) = camera_matrices(scene, aspect);
+    let inv = (proj * view).inverse();
+    const RAYS: usize = 9;
+    let mut corners = Vec::with_capacity(2 * RAYS * RAYS);
+    for j in 0..RAYS {
+        for i in 0..RAYS {
+            let x = -1.0 + 2.0 * i as f32 / (RAYS - 1) as f32;
+            let y = -1.0 + 2.0 * j as f32 / (RAYS - 1) as f32;
+            let near = inv * Vec4::new(x, y, 0.0, 1.0);
+            let near = near.truncate() / near.w;
+            let dir = (near - c.position).normalize();
+            let exit = ray_box_exit(c.position, dir, lo_all, hi_all).clamp(c.z_near, far);
+            corners.push(near.clamp(lo_all, hi_all));
+            corners.push((c.position + dir * exit).clamp(lo_all, hi_all));
+        }
+    }
     let scene_corners: Vec<Vec3> = (0..8)
         .map(|i| {
             Vec3::new(
