@@ -5,78 +5,15 @@
 
 mod common;
 
-use common::{assert_clean_shutdown, validated_context};
-use glam::{Vec2, Vec3};
+use common::{assert_clean_shutdown, pool, validated_context, FLOOR_DEPTH};
 use underlight::frame::uniforms::directional_irradiance;
 use underlight::frame::FramePlan;
 use underlight::headless::{SceneImages, SceneRenderer};
 use underlight::image_io::HdrImage;
 use underlight::passes::PassId;
-use underlight::scene::*;
+use underlight::scene::Scene;
 use underlight::shader_math::fresnel_transmittance;
 use underlight::vk::vk;
-
-const FLOOR_DEPTH: f32 = 2.0;
-
-/// A square pool floor `FLOOR_DEPTH` below flat or wavy water, a camera under water looking
-/// straight down at it, and a sun straight above.
-fn pool(amplitude: f32) -> Scene {
-    let half = 6.0;
-    let floor = Mesh {
-        name: "floor".into(),
-        positions: vec![
-            Vec3::new(-half, -FLOOR_DEPTH, -half),
-            Vec3::new(half, -FLOOR_DEPTH, -half),
-            Vec3::new(half, -FLOOR_DEPTH, half),
-            Vec3::new(-half, -FLOOR_DEPTH, half),
-        ],
-        normals: vec![Vec3::Y; 4],
-        indices: vec![0, 2, 1, 0, 3, 2],
-        albedo: Vec3::splat(0.8),
-    };
-    Scene {
-        name: "pool".into(),
-        output: [96, 96],
-        camera: Camera {
-            position: Vec3::new(0.0, -0.5, 0.0),
-            look_at: Vec3::new(0.0, -FLOOR_DEPTH, 0.0),
-            fov_y_degrees: 60.0,
-            z_near: 0.05,
-            z_far: 10.0,
-        },
-        light: Light {
-            kind: LightKind::Directional,
-            direction: Vec3::NEG_Y,
-            position: Vec3::ZERO,
-            intensity: 9.2,
-            distance: 100.0,
-        },
-        water: Water {
-            model: WaterModel::AxisCosineNoise,
-            level: 0.0,
-            amplitude,
-            wavelength: 0.8,
-            speed: 0.5,
-            noise_amplitude: 0.0,
-            noise_scale: 4.0,
-            center: Vec2::ZERO,
-            extent_min: Vec2::splat(-half),
-            extent_max: Vec2::splat(half),
-            ior: 1.333,
-        },
-        medium: Medium { gamma: Vec3::splat(0.13), scattering: 0.05, hg_g: 0.5 },
-        effects: Effects {
-            caustic_grid: 160,
-            caustic_subdivision: 2,
-            caustic_target_scale: 1.0,
-            point_size_min: 3.0,
-            point_size_max: 12.0,
-            shadow_map_size: 256,
-            ..Effects::default()
-        },
-        meshes: vec![floor],
-    }
-}
 
 fn render(scene: &Scene) -> (SceneImages, Vec<underlight::vk::timing::PassTimings>) {
     let ctx = validated_context();
@@ -165,6 +102,18 @@ fn flat_water_lights_the_floor_with_the_analytic_irradiance() {
 }
 
 #[test]
+fn filter_keeps_the_mean_and_smooths() {
+    let (wavy, _) = render(&pool(0.04));
+    let raw = wavy.caustics.as_ref().unwrap();
+    let filtered = wavy.caustics_filtered.as_ref().expect("the pool filters");
+    let (raw_mean, raw_std, _) = central_stats(raw, 1);
+    let (f_mean, f_std, _) = central_stats(filtered, 1);
+    // Equal tap weights: the filter moves energy, it does not make or lose it.
+    assert!((f_mean / raw_mean - 1.0).abs() < 0.02, "mean: raw {raw_mean:e}, filtered {f_mean:e}");
+    assert!(f_std < 0.9 * raw_std, "per-pixel relative std: raw {raw_std}, filtered {f_std}");
+}
+
+#[test]
 fn waves_focus_light_but_conserve_it() {
     let (flat, _) = render(&pool(0.0));
     let (wavy, _) = render(&pool(0.04));
@@ -183,10 +132,23 @@ fn plan_skips_what_the_scene_does_not_need() {
     let scene = pool(0.0);
     let plan = FramePlan::for_scene(&scene);
     assert!(plan.runs(PassId::Shadow) && plan.runs(PassId::Caustics));
+    assert!(plan.runs(PassId::Godrays) && plan.runs(PassId::Filter), "{plan}");
+    let mut no_caustics = scene.clone();
+    no_caustics.effects.caustics = false;
+    let plan = FramePlan::for_scene(&no_caustics);
+    assert_eq!(plan.passes, vec![PassId::Shadow, PassId::Scene, PassId::Godrays, PassId::Filter, PassId::Compose], "{plan}");
+    let mut clear = scene.clone();
+    clear.medium.scattering = 0.0;
+    let plan = FramePlan::for_scene(&clear);
+    assert!(!plan.runs(PassId::Godrays) && plan.runs(PassId::Caustics), "{plan}");
     let mut off = scene.clone();
     off.effects.caustics = false;
+    off.effects.godrays = false;
     let plan = FramePlan::for_scene(&off);
     assert_eq!(plan.passes, vec![PassId::Scene, PassId::Compose], "{plan}");
+    let mut unfiltered = scene.clone();
+    unfiltered.effects.filter = false;
+    assert!(!FramePlan::for_scene(&unfiltered).runs(PassId::Filter));
     let mut dry = scene.clone();
     dry.water.level = -10.0; // everything above the water
     let plan = FramePlan::for_scene(&dry);
@@ -197,7 +159,9 @@ fn plan_skips_what_the_scene_does_not_need() {
     let ctx = validated_context();
     let out = vk::Extent2D { width: 32, height: 32 };
     let renderer = SceneRenderer::new(&ctx.device, &off, out).unwrap();
-    assert!(renderer.frame.caustics.is_none() && renderer.frame.shadow.is_none());
+    let f = &renderer.frame;
+    assert!(f.caustics.is_none() && f.godrays.is_none() && f.shadow.is_none());
+    assert!(f.caustic_filter.is_none() && f.godray_filter.is_none());
     drop(renderer);
     assert_clean_shutdown(ctx);
 }

@@ -3,6 +3,8 @@
 //! message, leaked Vulkan object or leaked allocation.
 #![allow(dead_code)]
 
+use glam::{Vec2, Vec3};
+use underlight::scene::*;
 use underlight::vk::{Context, ContextDesc, ShutdownReport};
 
 /// A context with validation on. `UNDERLIGHT_DEVICE` still picks the device.
@@ -29,4 +31,66 @@ pub fn assert_clean(report: &ShutdownReport) {
         report.validation.len(),
         report.leaked_allocations.len()
     );
+}
+
+pub const FLOOR_DEPTH: f32 = 2.0;
+
+/// A square pool floor `FLOOR_DEPTH` below flat or wavy water, a camera under water looking
+/// straight down at it, and a sun straight above.
+pub fn pool(amplitude: f32) -> Scene {
+    let half = 6.0;
+    let floor = Mesh {
+        name: "floor".into(),
+        positions: vec![
+            Vec3::new(-half, -FLOOR_DEPTH, -half),
+            Vec3::new(half, -FLOOR_DEPTH, -half),
+            Vec3::new(half, -FLOOR_DEPTH, half),
+            Vec3::new(-half, -FLOOR_DEPTH, half),
+        ],
+        normals: vec![Vec3::Y; 4],
+        indices: vec![0, 2, 1, 0, 3, 2],
+        albedo: Vec3::splat(0.8),
+    };
+    Scene {
+        name: "pool".into(),
+        output: [96, 96],
+        camera: Camera {
+            position: Vec3::new(0.0, -0.5, 0.0),
+            look_at: Vec3::new(0.0, -FLOOR_DEPTH, 0.0),
+            fov_y_degrees: 60.0,
+            z_near: 0.05,
+            z_far: 10.0,
+        },
+        light: Light {
+            kind: LightKind::Directional,
+            direction: Vec3::NEG_Y,
+            position: Vec3::ZERO,
+            intensity: 9.2,
+            distance: 100.0,
+        },
+        water: Water {
+            model: WaterModel::AxisCosineNoise,
+            level: 0.0,
+            amplitude,
+            wavelength: 0.8,
+            speed: 0.5,
+            noise_amplitude: 0.0,
+            noise_scale: 4.0,
+            center: Vec2::ZERO,
+            extent_min: Vec2::splat(-half),
+            extent_max: Vec2::splat(half),
+            ior: 1.333,
+        },
+        medium: Medium { gamma: Vec3::splat(0.13), scattering: 0.05, hg_g: 0.5 },
+        effects: Effects {
+            caustic_grid: 160,
+            caustic_subdivision: 2,
+            caustic_target_scale: 1.0,
+            point_size_min: 3.0,
+            point_size_max: 12.0,
+            shadow_map_size: 256,
+            ..Effects::default()
+        },
+        meshes: vec![floor],
+    }
 }
