@@ -557,7 +557,7 @@ fn out_of_range_values_are_errors_naming_the_field_and_the_range() {
         ("[medium]\ngamma = [0.1, -0.2, 0.3]\n", "medium.gamma[1] = -0.2 is out of range: must be >= 0"),
         ("[medium]\nscattering = -0.01\n", "medium.scattering = -0.01 is out of range: must be >= 0"),
         ("[effects]\ncaustic_grid = 0\n", "effects.caustic_grid = 0 is out of range: must be in [1, 4096]"),
-        ("[effects]\ngodray_subdivision = 9\n", "effects.godray_subdivision = 9 is out of range: must be in [1, 8]"),
+        ("[effects]\ngodray_subdivision = 9\n", "effects.godray_subdivision = 9 is out of range: must be in [1, 6]"),
         ("[effects]\niterations = 65\n", "effects.iterations = 65 is out of range: must be in [1, 64]"),
         ("[effects]\nshadow_map_size = 8\n", "effects.shadow_map_size = 8 is out of range: must be in [16, 8192]"),
         (

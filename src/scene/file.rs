@@ -710,9 +710,22 @@ impl EffectsFile {
             godrays: self.godrays.unwrap_or(d.godrays),
             filter: self.filter.unwrap_or(d.filter),
             caustic_grid: int("caustic_grid", self.caustic_grid, d.caustic_grid, 1, 4096)?,
-            caustic_subdivision: int("caustic_subdivision", self.caustic_subdivision, d.caustic_subdivision, 1, 8)?,
+            // The geometry shaders' output limits (see shader_math).
+            caustic_subdivision: int(
+                "caustic_subdivision",
+                self.caustic_subdivision,
+                d.caustic_subdivision,
+                1,
+                crate::shader_math::MAX_SUBDIVISION,
+            )?,
             godray_grid: int("godray_grid", self.godray_grid, d.godray_grid, 1, 4096)?,
-            godray_subdivision: int("godray_subdivision", self.godray_subdivision, d.godray_subdivision, 1, 8)?,
+            godray_subdivision: int(
+                "godray_subdivision",
+                self.godray_subdivision,
+                d.godray_subdivision,
+                1,
+                crate::shader_math::GODRAY_MAX_SUBDIVISION,
+            )?,
             caustic_target_scale: float(
                 "caustic_target_scale",
                 self.caustic_target_scale,
