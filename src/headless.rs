@@ -1,7 +1,7 @@
 //! Headless rendering: frames into an off-screen target, the last one read back.
 
 use crate::error::Result;
-use crate::frame::Frame;
+use crate::frame::{Frame, FrameOptions};
 use crate::scene::Scene;
 use crate::image_io::HdrImage;
 use crate::passes::grid_splat::{GridSplatPass, GridSplatSettings};
@@ -94,6 +94,10 @@ pub struct SceneImages {
     /// Godray radiance (W/(m²·sr)) at the godray target's size, before and after the filter.
     pub godrays: Option<HdrImage>,
     pub godrays_filtered: Option<HdrImage>,
+    /// With photon recording: the light's receiver-position map (RGBA32F world positions).
+    pub light_positions: Option<HdrImage>,
+    /// With photon recording: per caustic photon, (hit, landed) and (surface, flux).
+    pub photon_records: Option<Vec<[f32; 4]>>,
 }
 
 /// A scene's frame with its ring of frames in flight and read-backs, kept alive across
@@ -106,11 +110,16 @@ pub struct SceneRenderer {
     albedo_transmittance: Readback,
     /// Photon buffers in order: caustics, filtered caustics, godrays, filtered godrays.
     effects: [Option<Readback>; 4],
+    light_positions: Option<Readback>,
 }
 
 impl SceneRenderer {
     pub fn new(device: &Arc<Device>, scene: &Scene, output: vk::Extent2D) -> Result<Self> {
-        let frame = Frame::new(device, scene, output, vk::ImageLayout::TRANSFER_SRC_OPTIMAL)?;
+        Self::with_options(device, scene, output, FrameOptions::default())
+    }
+
+    pub fn with_options(device: &Arc<Device>, scene: &Scene, output: vk::Extent2D, options: FrameOptions) -> Result<Self> {
+        let frame = Frame::new(device, scene, output, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, options)?;
         let ring = FrameRing::new(device)?;
         let output = Readback::new(device, &frame.compose.output)?;
         let scene_color = Readback::new(device, &frame.scene_pass.color)?;
@@ -119,7 +128,11 @@ impl SceneRenderer {
         for (slot, image) in effects.iter_mut().zip(effect_images(&frame)) {
             *slot = image.map(|i| Readback::new(device, i)).transpose()?;
         }
-        Ok(Self { frame, ring, output, scene_color, albedo_transmittance, effects })
+        let light_positions = match (&frame.shadow, options.record_photons) {
+            (Some(s), true) => Some(Readback::new(device, &s.position)?),
+            _ => None,
+        };
+        Ok(Self { frame, ring, output, scene_color, albedo_transmittance, effects, light_positions })
     }
 
     /// Renders `frames` frames at times `t0 + k·dt`; with `read_back`, the last frame's
@@ -134,6 +147,7 @@ impl SceneRenderer {
                 let cmd = slot.cmd;
                 let frame = &self.frame;
                 let (out, sc, at, fx) = (&self.output, &self.scene_color, &self.albedo_transmittance, &self.effects);
+                let lp = &self.light_positions;
                 slot.timer.pass(cmd, PassId::Readback, |cmd| {
                     let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
                     out.record(cmd, &frame.compose.output);
@@ -143,6 +157,9 @@ impl SceneRenderer {
                         if let (Some(rb), Some(image)) = (rb, image) {
                             rb.record_from(cmd, image, read);
                         }
+                    }
+                    if let (Some(rb), Some(shadow)) = (lp, &frame.shadow) {
+                        rb.record_from(cmd, &shadow.position, read);
                     }
                 });
             }
@@ -179,6 +196,8 @@ impl SceneRenderer {
             caustics_filtered: effect(1)?,
             godrays: effect(2)?,
             godrays_filtered: effect(3)?,
+            light_positions: self.light_positions.as_ref().map(|r| r.read()).transpose()?,
+            photon_records: self.frame.caustics.as_ref().and_then(|c| c.read_photon_records()),
         };
         Ok((timings, Some(images)))
     }

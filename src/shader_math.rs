@@ -253,6 +253,143 @@ pub fn regulated_point_size(d_view: f32, z_near: f32, z_far: f32, s_min: f32, s_
     a + b / d_view.max(z_near)
 }
 
+// ---------------------------------------------------------------------------------------
+// Photon casting (GLSL: photon.glsl, `cast_photon`).
+
+/// A photon that reached a receiver (GLSL `Photon`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Photon {
+    pub surface: Vec3,
+    pub direction: Vec3,
+    pub hit: Vec3,
+    /// Flux after the surface (Fresnel applied), W.
+    pub flux: f32,
+    pub travelled: f32,
+}
+
+/// Everything `cast_photon` reads: the frame's uniforms, the noise, and the light's
+/// receiver-position map as read back from the shadow pass (RGBA32F, w = 1 where a receiver).
+pub struct PhotonCaster<'a> {
+    pub uniforms: &'a crate::frame::uniforms::FrameUniforms,
+    pub noise: &'a NoiseTexture,
+    pub light_map: &'a crate::image_io::HdrImage,
+}
+
+impl PhotonCaster<'_> {
+    fn water(&self) -> WaterParams {
+        let u = self.uniforms;
+        WaterParams {
+            model: u.water1[3] as i32,
+            level: u.water0[0],
+            amplitude: u.water0[1],
+            wavelength: u.water0[2],
+            speed: u.water0[3],
+            noise_amplitude: u.water1[0],
+            noise_scale: u.water1[1],
+            ior: u.water1[2],
+            center: Vec2::new(u.water2[0], u.water2[1]),
+            extent_min: Vec2::new(u.water2[2], u.water2[3]),
+            extent_max: Vec2::new(u.water3[0], u.water3[1]),
+        }
+    }
+
+    /// GLSL `light_texel`.
+    fn light_texel(&self, p: Vec3) -> Option<(u32, u32)> {
+        let c = glam::Mat4::from_cols_array_2d(&self.uniforms.light_view_proj) * p.extend(1.0);
+        if c.w <= 0.0 {
+            return None;
+        }
+        let uv = Vec2::new(c.x, c.y) / c.w * 0.5 + 0.5;
+        if uv.x < 0.0 || uv.y < 0.0 || uv.x >= 1.0 || uv.y >= 1.0 {
+            return None;
+        }
+        let size = self.uniforms.effect1[3];
+        Some(((uv.x * size) as u32, (uv.y * size) as u32))
+    }
+
+    fn receiver(&self, texel: (u32, u32)) -> [f32; 4] {
+        self.light_map.at(texel.0, texel.1)
+    }
+
+    /// GLSL `cast_photon`: the photon at light-space `uv` of a grid with `photons_per_axis`²
+    /// photons, or `None` where the shader drops it.
+    pub fn cast(&self, uv: Vec2, photons_per_axis: f32) -> Option<Photon> {
+        let u = self.uniforms;
+        let inv = glam::Mat4::from_cols_array_2d(&u.light_inv_view_proj);
+        let ndc = uv * 2.0 - 1.0;
+        let a = inv * glam::Vec4::new(ndc.x, ndc.y, 0.0, 1.0);
+        let b = inv * glam::Vec4::new(ndc.x, ndc.y, 1.0, 1.0);
+        let o = a.truncate() / a.w;
+        let d = (b.truncate() / b.w - o).normalize();
+        let w = self.water();
+        let time = u.camera_pos[3];
+        let t = water_intersect(&w, self.noise, o, d, time);
+        if !(t > 0.0) {
+            return None;
+        }
+        let ps = o + t * d;
+        if !water_covers(&w, ps.xz()) {
+            return None;
+        }
+        if let Some(texel) = self.light_texel(ps) {
+            let first = self.receiver(texel);
+            if first[3] > 0.0 && (Vec3::new(first[0], first[1], first[2]) - o).dot(d) < t - 1e-3 {
+                return None;
+            }
+        }
+        let hg = water_height_grad(&w, self.noise, ps.xz(), time);
+        let n = water_normal_from_grad(Vec2::new(hg.y, hg.z));
+        let cos_i = (-d).dot(n);
+        if cos_i <= 0.0 {
+            return None;
+        }
+        let rt = refract(d, n, 1.0 / w.ior);
+        if rt == Vec3::ZERO {
+            return None;
+        }
+        let rt = rt.normalize();
+        let mut dist = 1.0;
+        if let Some(texel) = self.light_texel(ps) {
+            let below = self.receiver(texel);
+            if below[3] > 0.0 {
+                dist = (Vec3::new(below[0], below[1], below[2]) - ps).length().max(1e-3);
+            }
+        }
+        for _ in 0..u.effect1[2] as i32 {
+            let texel = self.light_texel(ps + dist * rt)?;
+            let r = self.receiver(texel);
+            if r[3] <= 0.0 {
+                return None;
+            }
+            dist = (Vec3::new(r[0], r[1], r[2]) - ps).length();
+        }
+        let hit = ps + dist * rt;
+        let texel = self.light_texel(hit)?;
+        let r = self.receiver(texel);
+        if r[3] <= 0.0 {
+            return None;
+        }
+        let point = u.light_pos[3] > 0.0;
+        let light_pos = Vec3::new(u.light_pos[0], u.light_pos[1], u.light_pos[2]);
+        let texel_size = 2.0 * u.light_flux[2].max(u.light_flux[3]) / u.effect1[3]
+            * if point { (hit - light_pos).length() } else { 1.0 };
+        if (Vec3::new(r[0], r[1], r[2]) - hit).length() > (3.0 * texel_size).max(0.05 * dist) {
+            return None;
+        }
+        if hit.y > w.level + w.amplitude.abs() + w.noise_amplitude.abs() {
+            return None;
+        }
+        let n2 = photons_per_axis * photons_per_axis;
+        let mut flux = u.light_flux[1] * 4.0 * u.light_flux[2] * u.light_flux[3] / n2;
+        if point {
+            let c = d.dot(Vec3::new(u.light_dir[0], u.light_dir[1], u.light_dir[2])).max(0.0);
+            flux *= c * c * c;
+        }
+        let photon = Photon { surface: ps, direction: rt, hit, flux: flux * fresnel_transmittance(cos_i, w.ior), travelled: dist };
+        (hit.is_finite() && photon.flux.is_finite()).then_some(photon)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -165,3 +165,80 @@ fn plan_skips_what_the_scene_does_not_need() {
     drop(renderer);
     assert_clean_shutdown(ctx);
 }
+
+#[test]
+fn geometry_shader_photons_agree_with_the_cpu_twin() {
+    use glam::{UVec2, Vec3};
+    use underlight::frame::uniforms::FrameUniforms;
+    use underlight::frame::FrameOptions;
+    use underlight::shader_math::{photon_grid_uv, NoiseTexture, PhotonCaster};
+
+    // Waves with noise and a tilted sun, so refraction, the iteration and the drops all matter.
+    let mut scene = pool(0.04);
+    scene.water.noise_amplitude = 0.02;
+    scene.water.model = underlight::scene::WaterModel::CircularCosine;
+    scene.light.direction = Vec3::new(0.3, -1.0, 0.2).normalize();
+    scene.effects.caustic_grid = 48;
+    scene.effects.caustic_subdivision = 3;
+    let time = 1.7;
+    let ctx = validated_context();
+    if !ctx.device.has_pipeline_stores() {
+        panic!("{} cannot record photons (no vertexPipelineStoresAndAtomics)", ctx.device.info.name);
+    }
+    let out = vk::Extent2D { width: scene.output[0], height: scene.output[1] };
+    let mut renderer = SceneRenderer::with_options(&ctx.device, &scene, out, FrameOptions { record_photons: true }).unwrap();
+    let extents = renderer.frame.extents;
+    let (_, images) = renderer.render(1, time, 0.0, true).unwrap();
+    drop(renderer);
+    assert_clean_shutdown(ctx);
+    let images = images.unwrap();
+    let records = images.photon_records.expect("photon records");
+    let light_map = images.light_positions.expect("light map");
+
+    let uniforms = FrameUniforms::new(&scene, &extents, time);
+    let noise = NoiseTexture::generate();
+    let caster = PhotonCaster { uniforms: &uniforms, noise: &noise, light_map: &light_map };
+    let (grid, sub) = (scene.effects.caustic_grid, scene.effects.caustic_subdivision);
+    let per_axis = (grid * sub) as f32;
+    let texel = 2.0 * uniforms.light_flux[2].max(uniforms.light_flux[3]) / uniforms.effect1[3];
+    let (mut both, mut disagree, mut far, mut landed) = (0, 0, 0, 0);
+    let mut worst = 0.0f32;
+    for cy in 0..grid {
+        for cx in 0..grid {
+            for j in 0..sub {
+                for i in 0..sub {
+                    let index = (((cy * grid + cx) * sub + j) * sub + i) as usize;
+                    let gpu = records[2 * index];
+                    let gpu_landed = gpu[3] > 0.5;
+                    let uv = photon_grid_uv(UVec2::new(cx, cy), UVec2::new(i, j), sub, UVec2::splat(grid));
+                    let cpu = caster.cast(uv, per_axis);
+                    landed += gpu_landed as usize;
+                    match (gpu_landed, cpu) {
+                        (true, Some(p)) => {
+                            both += 1;
+                            let e = (p.hit - Vec3::new(gpu[0], gpu[1], gpu[2])).length();
+                            worst = worst.max(e);
+                            let flux = records[2 * index + 1][3];
+                            assert!((flux / p.flux - 1.0).abs() < 1e-3, "photon {index}: flux {flux} vs {}", p.flux);
+                            if e > 2.0 * texel {
+                                far += 1;
+                            }
+                        }
+                        (false, None) => {}
+                        _ => disagree += 1,
+                    }
+                }
+            }
+        }
+    }
+    let total = (grid * sub).pow(2) as usize;
+    eprintln!(
+        "photons: {total}, landed on the GPU {landed}, both {both}, disagree {disagree}, \
+         hits > 2 texels apart {far}, worst {worst} m (texel {texel} m)"
+    );
+    assert!(landed > total / 4, "too few photons land for the comparison to mean much");
+    // Float rounding differs (GPU transcendental functions, fused operations), so a photon
+    // whose estimate lands on a texel edge may pick the neighbouring texel; nothing more.
+    assert!(disagree * 200 < total, "{disagree} of {total} photons land on one side only");
+    assert!(far * 200 < both, "{far} of {both} hits differ by more than 2 light-map texels");
+}

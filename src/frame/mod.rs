@@ -44,6 +44,8 @@ pub mod bindings {
     pub const GODRAYS: u32 = 8;
     /// The unfiltered buffer a filter pass instance reads (each instance has its own set).
     pub const FILTER_INPUT: u32 = 9;
+    /// The caustics pass's photon records (debug variant only; the pass binds its own buffer).
+    pub const PHOTON_DEBUG: u32 = 10;
 }
 
 /// Which passes a scene needs, and why each is in or out.
@@ -152,6 +154,14 @@ pub fn frame_extents(scene: &Scene, output: vk::Extent2D, device: &Device) -> Fr
     }
 }
 
+/// Switches that change what a frame records, for tests and debugging.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FrameOptions {
+    /// The caustics pass writes every photon's cast to a host-visible buffer (needs
+    /// vertexPipelineStoresAndAtomics).
+    pub record_photons: bool,
+}
+
 /// Filter kernel radii, pixels of each buffer. The caustic radius is about half the paper's
 /// smallest splat (5 px), enough to close the gaps between sparse photons without blurring
 /// caustic lines much; the godray buffer is small, so a smaller radius.
@@ -182,7 +192,13 @@ pub struct Frame {
 impl Frame {
     /// Creates the passes the scene needs for an output of `output` texels, leaving the
     /// output in `output_layout` (TRANSFER_SRC_OPTIMAL headless, PRESENT_SRC_KHR for a window).
-    pub fn new(device: &Arc<Device>, scene: &Scene, output: vk::Extent2D, output_layout: vk::ImageLayout) -> Result<Self> {
+    pub fn new(
+        device: &Arc<Device>,
+        scene: &Scene,
+        output: vk::Extent2D,
+        output_layout: vk::ImageLayout,
+        options: FrameOptions,
+    ) -> Result<Self> {
         let plan = FramePlan::for_scene(scene);
         let extents = frame_extents(scene, output, device);
         let mut uniforms = Vec::with_capacity(FRAMES_IN_FLIGHT);
@@ -211,7 +227,7 @@ impl Frame {
         let caustics = if plan.runs(PassId::Caustics) {
             let e = &scene.effects;
             let ext = vk::Extent2D { width: extents.caustic[0], height: extents.caustic[1] };
-            Some(CausticsPass::new(device, ext, e.caustic_grid, e.caustic_subdivision)?)
+            Some(CausticsPass::new(device, ext, e.caustic_grid, e.caustic_subdivision, options.record_photons)?)
         } else {
             None
         };
@@ -270,6 +286,12 @@ impl Frame {
         }
         if let Some(c) = &caustics {
             pass_sets.push((&c.sets, crate::passes::caustics::BINDINGS.to_vec()));
+            if let Some(records) = &c.photon_records {
+                for frame in 0..FRAMES_IN_FLIGHT {
+                    let r = Resource::Storage { buffer: records.raw, range: records.size };
+                    c.sets.write_at(frame, vec![(bindings::PHOTON_DEBUG as usize, r)]);
+                }
+            }
         }
         if let Some(g) = &godrays {
             pass_sets.push((&g.sets, crate::passes::godrays::BINDINGS.to_vec()));

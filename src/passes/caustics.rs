@@ -6,6 +6,7 @@
 use crate::error::{Error, Result};
 use crate::shader_math::MAX_SUBDIVISION;
 use crate::frame::bindings as b;
+use crate::vk::buffer::Buffer;
 use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
@@ -27,9 +28,21 @@ pub const BINDINGS: &[(u32, Binding)] = &[
 
 pub const TARGET_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 
+/// The debug variant also writes every photon's cast into a host-visible buffer.
+pub const DEBUG_BINDINGS: &[(u32, Binding)] = &[
+    (b::UNIFORMS, Binding::Uniform),
+    (b::NOISE, Binding::Texture),
+    (b::LIGHT_POSITION, Binding::Texture),
+    (b::LIGHT_NORMAL, Binding::Texture),
+    (b::SCENE_DEPTH, Binding::Texture),
+    (b::PHOTON_DEBUG, Binding::Storage),
+];
+
 pub struct CausticsPass {
     pub grid: u32,
     pub subdivision: u32,
+    /// With photon recording on: two vec4 per photon, (hit, landed) and (surface, flux).
+    pub photon_records: Option<Buffer>,
     pipeline: Pipeline,
     render_pass: RenderPass,
     pub target: Image,
@@ -44,8 +57,28 @@ impl CausticsPass {
         extent: vk::Extent2D,
         grid: u32,
         subdivision: u32,
+        record_photons: bool,
     ) -> Result<Self> {
-        let sets = DescriptorSets::new(device, "caustics", BINDINGS, FRAMES_IN_FLIGHT as u32)?;
+        if record_photons && !device.has_pipeline_stores() {
+            return Err(Error::MissingFeatures {
+                device: device.info.name.clone(),
+                missing: vec!["vertexPipelineStoresAndAtomics (photon recording)"],
+            });
+        }
+        let bindings = if record_photons { DEBUG_BINDINGS } else { BINDINGS };
+        let sets = DescriptorSets::new(device, "caustics", bindings, FRAMES_IN_FLIGHT as u32)?;
+        let photon_records = if record_photons {
+            let photons = (grid as u64 * subdivision as u64).pow(2);
+            Some(Buffer::new(
+                device,
+                "caustic photon records",
+                photons * 32,
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                gpu_allocator::MemoryLocation::GpuToCpu,
+            )?)
+        } else {
+            None
+        };
         if subdivision == 0 || subdivision > MAX_SUBDIVISION {
             return Err(Error::InvalidParameter {
                 name: "caustic_subdivision",
@@ -70,7 +103,7 @@ impl CausticsPass {
             &GraphicsPipelineDesc {
                 name: "caustics",
                 vertex: "photon_grid.vert",
-                geometry: Some("caustics.geom"),
+                geometry: Some(if record_photons { "caustics_debug.geom" } else { "caustics.geom" }),
                 fragment: "caustics.frag",
                 topology: vk::PrimitiveTopology::POINT_LIST,
                 blend: Blend::Additive,
@@ -86,7 +119,7 @@ impl CausticsPass {
                 vertex_attributes: &[],
             },
         )?;
-        Ok(Self { grid, subdivision, pipeline, render_pass, target, sets, device: device.clone() })
+        Ok(Self { grid, subdivision, photon_records, pipeline, render_pass, target, sets, device: device.clone() })
     }
 
     pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize) {
@@ -101,5 +134,22 @@ impl CausticsPass {
             dev.raw.cmd_draw(cmd, self.grid * self.grid, 1, 0, 0);
         }
         self.render_pass.end(cmd);
+        if self.photon_records.is_some() {
+            // The records are read by the host once the frame's fence signals.
+            let to_host = [vk::MemoryBarrier2::default()
+                .src_stage_mask(vk::PipelineStageFlags2::GEOMETRY_SHADER)
+                .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
+                .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+                .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+            unsafe { dev.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&to_host)) };
+        }
+    }
+
+    /// The recorded photons, as (hit, landed) and (surface, flux) per photon in grid order.
+    /// Only meaningful after the frame that recorded them has finished.
+    pub fn read_photon_records(&self) -> Option<Vec<[f32; 4]>> {
+        let bytes = self.photon_records.as_ref()?.mapped()?;
+        let floats: Vec<f32> = bytes.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect();
+        Some(floats.chunks_exact(4).map(|c| [c[0], c[1], c[2], c[3]]).collect())
     }
 }

@@ -13,6 +13,7 @@ pub enum Binding {
     Uniform,
     /// A sampled image with its sampler.
     Texture,
+    Storage,
 }
 
 impl Binding {
@@ -20,6 +21,7 @@ impl Binding {
         match self {
             Binding::Uniform => vk::DescriptorType::UNIFORM_BUFFER,
             Binding::Texture => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+            Binding::Storage => vk::DescriptorType::STORAGE_BUFFER,
         }
     }
 }
@@ -28,6 +30,7 @@ impl Binding {
 pub enum Resource {
     Uniform { buffer: vk::Buffer, range: vk::DeviceSize },
     Texture { view: vk::ImageView, sampler: vk::Sampler, layout: vk::ImageLayout },
+    Storage { buffer: vk::Buffer, range: vk::DeviceSize },
 }
 
 pub struct DescriptorSets {
@@ -92,6 +95,10 @@ impl DescriptorSets {
             Resource::Texture { view, sampler, layout } => {
                 image_info = [vk::DescriptorImageInfo { sampler: *sampler, image_view: *view, image_layout: *layout }];
                 w.descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER).image_info(&image_info)
+            }
+            Resource::Storage { buffer, range } => {
+                buffer_info = [vk::DescriptorBufferInfo { buffer: *buffer, offset: 0, range: *range }];
+                w.descriptor_type(vk::DescriptorType::STORAGE_BUFFER).buffer_info(&buffer_info)
             }
         };
         unsafe { self.device.raw.update_descriptor_sets(&[w], &[]) };

@@ -154,6 +154,8 @@ impl Device {
             shader_tessellation_and_geometry_point_size: vk::TRUE,
             large_points: vk::TRUE,
             wide_lines: vk::TRUE,
+            // Optional: lets the caustics pass record every photon for tests and debugging.
+            vertex_pipeline_stores_and_atomics: info.capabilities.features.vertex_pipeline_stores_and_atomics,
             ..Default::default()
         };
         let mut f13 = vk::PhysicalDeviceVulkan13Features::default().synchronization2(true);
@@ -198,6 +200,11 @@ impl Device {
         };
         device.set_name(device.queue, "graphics queue");
         Ok(device)
+    }
+
+    /// Whether geometry shaders may write storage buffers (the photon debug records).
+    pub fn has_pipeline_stores(&self) -> bool {
+        self.info.capabilities.features.vertex_pipeline_stores_and_atomics == vk::TRUE
     }
 
     pub fn limits(&self) -> &vk::PhysicalDeviceLimits {
