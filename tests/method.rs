@@ -247,7 +247,7 @@ fn geometry_shader_photons_agree_with_the_cpu_twin() {
     let records = images.photon_records.expect("photon records");
     let light_map = images.light_positions.expect("light map");
 
-    let uniforms = FrameUniforms::new(&scene, &extents, time);
+    let uniforms = FrameUniforms::new(&scene, scene.bounds(), &extents, time);
     let noise = NoiseTexture::generate();
     let caster = PhotonCaster { uniforms: &uniforms, noise: &noise, light_map: &light_map };
     let (grid, sub) = (scene.effects.caustic_grid, scene.effects.caustic_subdivision);

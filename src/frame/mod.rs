@@ -172,6 +172,8 @@ pub struct Frame {
     pub plan: FramePlan,
     pub extents: FrameExtents,
     scene: Scene,
+    /// The scene's bounds, for the light frustum each frame.
+    bounds: (glam::Vec3, glam::Vec3),
     // Passes before the resources they read: dropped first.
     pub shadow: Option<ShadowPass>,
     pub scene_pass: ScenePass,
@@ -316,6 +318,7 @@ impl Frame {
             plan,
             extents,
             scene: scene.clone(),
+            bounds: scene.bounds(),
             shadow,
             scene_pass,
             caustics,
@@ -338,7 +341,7 @@ impl Frame {
     /// Writes this frame's uniforms (the slot's fence has signalled, so its buffer is free)
     /// and records the passes through the slot's timer.
     pub fn record(&mut self, slot: &mut FrameSlot, time: f32) {
-        let u = FrameUniforms::new(&self.scene, &self.extents, time);
+        let u = FrameUniforms::new(&self.scene, self.bounds, &self.extents, time);
         if let Some(bytes) = self.uniforms[slot.index].mapped_mut() {
             bytes.copy_from_slice(bytemuck::bytes_of(&u));
         }

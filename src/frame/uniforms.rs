@@ -71,9 +71,10 @@ pub struct LightFrame {
     pub half_extent: [f32; 2],
 }
 
-pub fn light_frame(scene: &Scene, aspect: f32) -> LightFrame {
+/// `bounds`: the scene's bounds (`Scene::bounds`), computed once per scene, not per frame.
+pub fn light_frame(scene: &Scene, bounds: (Vec3, Vec3), aspect: f32) -> LightFrame {
     let c = &scene.camera;
-    let (lo, hi) = scene.bounds();
+    let (lo, hi) = bounds;
     let radius = (hi - lo).length().max(1e-3);
     let forward = (c.look_at - c.position).normalize();
     let far = c.z_far.min(radius * 2.0);
@@ -97,28 +98,28 @@ pub fn light_frame(scene: &Scene, aspect: f32) -> LightFrame {
     let (view, proj) = camera_matrices(scene, aspect);
     let inv = (proj * view).inverse();
     const RAYS: usize = 9;
-    let mut corners = Vec::with_capacity(2 * RAYS * RAYS);
+    // A fixed array: this runs every frame and must not allocate.
+    let mut corners = [Vec3::ZERO; 2 * RAYS * RAYS];
     for j in 0..RAYS {
         for i in 0..RAYS {
+            let k = 2 * (j * RAYS + i);
             let x = -1.0 + 2.0 * i as f32 / (RAYS - 1) as f32;
             let y = -1.0 + 2.0 * j as f32 / (RAYS - 1) as f32;
             let near = inv * Vec4::new(x, y, 0.0, 1.0);
             let near = near.truncate() / near.w;
             let dir = (near - c.position).normalize();
             let exit = ray_box_exit(c.position, dir, lo_all, hi_all).clamp(c.z_near, far);
-            corners.push(near.clamp(lo_all, hi_all));
-            corners.push((c.position + dir * exit).clamp(lo_all, hi_all));
+            corners[k] = near.clamp(lo_all, hi_all);
+            corners[k + 1] = (c.position + dir * exit).clamp(lo_all, hi_all);
         }
     }
-    let scene_corners: Vec<Vec3> = (0..8)
-        .map(|i| {
-            Vec3::new(
-                if i & 1 == 0 { lo_all.x } else { hi_all.x },
-                if i & 2 == 0 { lo_all.y } else { hi_all.y },
-                if i & 4 == 0 { lo_all.z } else { hi_all.z },
-            )
-        })
-        .collect();
+    let scene_corners: [Vec3; 8] = std::array::from_fn(|i| {
+        Vec3::new(
+            if i & 1 == 0 { lo_all.x } else { hi_all.x },
+            if i & 2 == 0 { lo_all.y } else { hi_all.y },
+            if i & 4 == 0 { lo_all.z } else { hi_all.z },
+        )
+    });
 
     match scene.light.kind {
         LightKind::Directional => {
@@ -208,10 +209,12 @@ pub fn surface_irradiance(scene: &Scene) -> f32 {
 pub const AMBIENT_FRACTION: f32 = 0.1;
 
 impl FrameUniforms {
-    pub fn new(scene: &Scene, extents: &FrameExtents, time: f32) -> Self {
+    /// The frame's uniforms at `time`. `bounds` is `scene.bounds()`, passed in so the
+    /// per-frame path does not walk the meshes.
+    pub fn new(scene: &Scene, bounds: (Vec3, Vec3), extents: &FrameExtents, time: f32) -> Self {
         let aspect = extents.output[0] as f32 / extents.output[1] as f32;
         let (view, proj) = camera_matrices(scene, aspect);
-        let light = light_frame(scene, aspect);
+        let light = light_frame(scene, bounds, aspect);
         let c = &scene.camera;
         let w = &scene.water;
         let e = &scene.effects;
