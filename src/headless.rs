@@ -38,7 +38,7 @@ pub struct GridSplatRenderer {
 impl GridSplatRenderer {
     pub fn new(device: &Arc<Device>, extent: vk::Extent2D, settings: GridSplatSettings) -> Result<Self> {
         let pass = GridSplatPass::new(device, extent, settings, vk::ImageLayout::TRANSFER_SRC_OPTIMAL)?;
-        let readback = Readback::new(device, &pass.target)?;
+        let readback = Readback::new(device, &pass.target.image)?;
         let ring = FrameRing::new(device)?;
         Ok(Self { pass, readback, ring })
     }
@@ -62,7 +62,7 @@ impl GridSplatRenderer {
             slot.timer.pass(cmd, PassId::GridSplat, |cmd| pass.record(cmd, time));
             if read_back && f + 1 == frames {
                 let readback = &self.readback;
-                slot.timer.pass(cmd, PassId::Readback, |cmd| readback.record(cmd, &pass.target));
+                slot.timer.pass(cmd, PassId::Readback, |cmd| readback.record(cmd, &pass.target.image));
             }
             self.ring.submit(&[], &[])?;
             // `begin` retired the frame recorded FRAMES_IN_FLIGHT ago; keep its timings.
@@ -121,7 +121,7 @@ impl SceneRenderer {
     pub fn with_options(device: &Arc<Device>, scene: &Scene, output: vk::Extent2D, options: FrameOptions) -> Result<Self> {
         let frame = Frame::new(device, scene, output, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, options)?;
         let ring = FrameRing::new(device)?;
-        let output = Readback::new(device, &frame.compose.output)?;
+        let output = Readback::new(device, &frame.compose.output.image)?;
         let scene_color = Readback::new(device, &frame.scene_pass.color)?;
         let albedo_transmittance = Readback::new(device, &frame.scene_pass.albedo_transmittance)?;
         let mut effects: [Option<Readback>; 4] = Default::default();
@@ -150,7 +150,7 @@ impl SceneRenderer {
                 let lp = &self.light_positions;
                 slot.timer.pass(cmd, PassId::Readback, |cmd| {
                     let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
-                    out.record(cmd, &frame.compose.output);
+                    out.record(cmd, &frame.compose.output.image);
                     sc.record_from(cmd, &frame.scene_pass.color, read);
                     at.record_from(cmd, &frame.scene_pass.albedo_transmittance, read);
                     for (rb, image) in fx.iter().zip(effect_images(frame)) {
@@ -172,7 +172,7 @@ impl SceneRenderer {
         if !(read_back && frames > 0) {
             return Ok((timings, None));
         }
-        let e = self.frame.compose.output.extent;
+        let e = self.frame.compose.output.image.extent;
         // Photon buffers store values relative to E_surface (half-float precision); report
         // them in physical units.
         let e_surface = crate::frame::uniforms::surface_irradiance(self.frame.scene());
@@ -206,10 +206,10 @@ impl SceneRenderer {
 /// The frame's photon buffers in `SceneRenderer::effects` order.
 fn effect_images(frame: &Frame) -> [Option<&crate::vk::image::Image>; 4] {
     [
-        frame.caustics.as_ref().map(|c| &c.target),
-        frame.caustic_filter.as_ref().map(|f| &f.output),
-        frame.godrays.as_ref().map(|g| &g.target),
-        frame.godray_filter.as_ref().map(|f| &f.output),
+        frame.caustics.as_ref().map(|c| &c.target.image),
+        frame.caustic_filter.as_ref().map(|f| &f.output.image),
+        frame.godrays.as_ref().map(|g| &g.target.image),
+        frame.godray_filter.as_ref().map(|f| &f.output.image),
     ]
 }
 

@@ -242,11 +242,11 @@ impl Frame {
         };
         let filtering = plan.runs(PassId::Filter);
         let caustic_filter = match (&caustics, filtering) {
-            (Some(c), true) => Some(FilterPass::new(device, "caustics filter", &c.target, CAUSTIC_FILTER_RADIUS_PX)?),
+            (Some(c), true) => Some(FilterPass::new(device, "caustics filter", &c.target.image, CAUSTIC_FILTER_RADIUS_PX)?),
             _ => None,
         };
         let godray_filter = match (&godrays, filtering) {
-            (Some(g), true) => Some(FilterPass::new(device, "godrays filter", &g.target, GODRAY_FILTER_RADIUS_PX)?),
+            (Some(g), true) => Some(FilterPass::new(device, "godrays filter", &g.target.image, GODRAY_FILTER_RADIUS_PX)?),
             _ => None,
         };
         let compose = ComposePass::new(device, output, caustics.is_some(), godrays.is_some(), output_layout)?;
@@ -267,13 +267,13 @@ impl Frame {
                 // Effect targets are smaller than the output: upsample bilinearly. Compose reads
                 // the filtered buffer when there is one.
                 bindings::CAUSTICS => match (&caustic_filter, &caustics) {
-                    (Some(f), _) => tex(&f.output, &linear),
-                    (None, Some(c)) => tex(&c.target, &linear),
+                    (Some(f), _) => tex(&f.output.image, &linear),
+                    (None, Some(c)) => tex(&c.target.image, &linear),
                     _ => panic!("plan: compose reads caustics the frame lacks"),
                 },
                 bindings::GODRAYS => match (&godray_filter, &godrays) {
-                    (Some(f), _) => tex(&f.output, &linear),
-                    (None, Some(g)) => tex(&g.target, &linear),
+                    (Some(f), _) => tex(&f.output.image, &linear),
+                    (None, Some(g)) => tex(&g.target.image, &linear),
                     _ => panic!("plan: compose reads godrays the frame lacks"),
                 },
                 other => panic!("no resource for binding {other}"),
@@ -305,8 +305,8 @@ impl Frame {
         }
         // Each filter instance reads its own effect buffer through the one input binding.
         for (filter, input) in [
-            (&caustic_filter, caustics.as_ref().map(|c| &c.target)),
-            (&godray_filter, godrays.as_ref().map(|g| &g.target)),
+            (&caustic_filter, caustics.as_ref().map(|c| &c.target.image)),
+            (&godray_filter, godrays.as_ref().map(|g| &g.target.image)),
         ] {
             if let (Some(f), Some(input)) = (filter, input) {
                 for frame in 0..FRAMES_IN_FLIGHT {

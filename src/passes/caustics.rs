@@ -10,9 +10,8 @@ use crate::vk::buffer::Buffer;
 use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
-use crate::vk::image::Image;
-use crate::vk::pipeline::{set_viewport, Blend, GraphicsPipelineDesc, Pipeline};
-use crate::vk::render_pass::{Attachment, Load, RenderPass};
+use crate::vk::pipeline::{Blend, GraphicsPipelineDesc, Pipeline};
+use crate::vk::render_pass::ColorTarget;
 use ash::vk;
 use std::sync::Arc;
 
@@ -44,8 +43,7 @@ pub struct CausticsPass {
     /// With photon recording on: two vec4 per photon, (hit, landed) and (surface, flux).
     pub photon_records: Option<Buffer>,
     pipeline: Pipeline,
-    render_pass: RenderPass,
-    pub target: Image,
+    pub target: ColorTarget,
     /// This pass's descriptor sets (one per frame in flight), written by the frame.
     pub sets: DescriptorSets,
     device: Arc<Device>,
@@ -85,19 +83,7 @@ impl CausticsPass {
                 message: format!("{subdivision} is outside 1..={MAX_SUBDIVISION}"),
             });
         }
-        let target = Image::new(
-            device,
-            "caustics",
-            extent,
-            TARGET_FORMAT,
-            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC,
-        )?;
-        let render_pass = RenderPass::new(
-            device,
-            "caustics",
-            &[Attachment { image: &target, load: Load::Clear([0.0; 4]), final_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL }],
-            None,
-        )?;
+        let target = ColorTarget::new(device, "caustics", extent, TARGET_FORMAT, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)?;
         let pipeline = Pipeline::graphics(
             device,
             &GraphicsPipelineDesc {
@@ -113,27 +99,22 @@ impl CausticsPass {
                 specialization: &[(0, subdivision)],
                 push_constant_bytes: 4,
                 set_layouts: &[sets.layout],
-                render_pass: render_pass.raw,
+                render_pass: target.render_pass.raw,
                 dynamic_line_width: false,
                 vertex_stride: 0,
                 vertex_attributes: &[],
             },
         )?;
-        Ok(Self { grid, subdivision, photon_records, pipeline, render_pass, target, sets, device: device.clone() })
+        Ok(Self { grid, subdivision, photon_records, pipeline, target, sets, device: device.clone() })
     }
 
     pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize) {
         let dev = &self.device;
-        let set = self.sets.sets[frame_index];
-        self.render_pass.begin(cmd);
-        set_viewport(dev, cmd, self.target.extent);
-        unsafe {
-            dev.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw);
-            dev.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.layout, 0, &[set], &[]);
-            dev.raw.cmd_push_constants(cmd, self.pipeline.layout, vk::ShaderStageFlags::ALL_GRAPHICS, 0, &self.grid.to_ne_bytes());
-            dev.raw.cmd_draw(cmd, self.grid * self.grid, 1, 0, 0);
-        }
-        self.render_pass.end(cmd);
+        self.target.render_pass.begin(cmd);
+        self.pipeline.bind(cmd, Some(self.sets.sets[frame_index]));
+        self.pipeline.push(cmd, &self.grid.to_ne_bytes());
+        unsafe { dev.raw.cmd_draw(cmd, self.grid * self.grid, 1, 0, 0) };
+        self.target.render_pass.end(cmd);
         if self.photon_records.is_some() {
             // The records are read by the host once the frame's fence signals.
             let to_host = [vk::MemoryBarrier2::default()

@@ -7,9 +7,8 @@ use crate::frame::bindings as b;
 use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
-use crate::vk::image::Image;
-use crate::vk::pipeline::{set_viewport, Blend, GraphicsPipelineDesc, Pipeline};
-use crate::vk::render_pass::{Attachment, Load, RenderPass};
+use crate::vk::pipeline::{Blend, GraphicsPipelineDesc, Pipeline};
+use crate::vk::render_pass::ColorTarget;
 use ash::vk;
 use std::sync::Arc;
 
@@ -17,8 +16,7 @@ pub const OUTPUT_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
 
 pub struct ComposePass {
     pipeline: Pipeline,
-    render_pass: RenderPass,
-    pub output: Image,
+    pub output: ColorTarget,
     /// This pass's descriptor sets (one per frame in flight), written by the frame.
     pub sets: DescriptorSets,
     device: Arc<Device>,
@@ -46,19 +44,7 @@ impl ComposePass {
         final_layout: vk::ImageLayout,
     ) -> Result<Self> {
         let sets = DescriptorSets::new(device, "compose", &Self::bindings(caustics, godrays), FRAMES_IN_FLIGHT as u32)?;
-        let output = Image::new(
-            device,
-            "output",
-            extent,
-            OUTPUT_FORMAT,
-            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
-        )?;
-        let render_pass = RenderPass::new(
-            device,
-            "compose",
-            &[Attachment { image: &output, load: Load::Clear([0.0, 0.0, 0.0, 1.0]), final_layout }],
-            None,
-        )?;
+        let output = ColorTarget::new(device, "output", extent, OUTPUT_FORMAT, final_layout)?;
         let fragment = match (caustics, godrays) {
             (false, false) => "compose.frag",
             (true, false) => "compose_caustics.frag",
@@ -80,25 +66,19 @@ impl ComposePass {
                 specialization: &[],
                 push_constant_bytes: 0,
                 set_layouts: &[sets.layout],
-                render_pass: render_pass.raw,
+                render_pass: output.render_pass.raw,
                 dynamic_line_width: false,
                 vertex_stride: 0,
                 vertex_attributes: &[],
             },
         )?;
-        Ok(Self { pipeline, render_pass, output, sets, device: device.clone() })
+        Ok(Self { pipeline, output, sets, device: device.clone() })
     }
 
     pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize) {
-        let dev = &self.device;
-        let set = self.sets.sets[frame_index];
-        self.render_pass.begin(cmd);
-        set_viewport(dev, cmd, self.output.extent);
-        unsafe {
-            dev.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw);
-            dev.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.layout, 0, &[set], &[]);
-            dev.raw.cmd_draw(cmd, 3, 1, 0, 0);
-        }
-        self.render_pass.end(cmd);
+        self.output.render_pass.begin(cmd);
+        self.pipeline.bind(cmd, Some(self.sets.sets[frame_index]));
+        unsafe { self.device.raw.cmd_draw(cmd, 3, 1, 0, 0) };
+        self.output.render_pass.end(cmd);
     }
 }

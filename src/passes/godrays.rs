@@ -9,9 +9,8 @@ use crate::shader_math::GODRAY_MAX_SUBDIVISION;
 use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
-use crate::vk::image::Image;
-use crate::vk::pipeline::{set_viewport, Blend, GraphicsPipelineDesc, Pipeline};
-use crate::vk::render_pass::{Attachment, Load, RenderPass};
+use crate::vk::pipeline::{Blend, GraphicsPipelineDesc, Pipeline};
+use crate::vk::render_pass::ColorTarget;
 use ash::vk;
 use std::sync::Arc;
 
@@ -34,8 +33,7 @@ pub struct GodraysPass {
     /// Line width actually drawn, px (the scene's, clamped to the device's range).
     pub line_width: f32,
     pipeline: Pipeline,
-    render_pass: RenderPass,
-    pub target: Image,
+    pub target: ColorTarget,
     pub sets: DescriptorSets,
     device: Arc<Device>,
 }
@@ -62,19 +60,7 @@ impl GodraysPass {
             });
         }
         let sets = DescriptorSets::new(device, "godrays", BINDINGS, FRAMES_IN_FLIGHT as u32)?;
-        let target = Image::new(
-            device,
-            "godrays",
-            extent,
-            TARGET_FORMAT,
-            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC,
-        )?;
-        let render_pass = RenderPass::new(
-            device,
-            "godrays",
-            &[Attachment { image: &target, load: Load::Clear([0.0; 4]), final_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL }],
-            None,
-        )?;
+        let target = ColorTarget::new(device, "godrays", extent, TARGET_FORMAT, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)?;
         let pipeline = Pipeline::graphics(
             device,
             &GraphicsPipelineDesc {
@@ -90,27 +76,24 @@ impl GodraysPass {
                 specialization: &[(0, subdivision)],
                 push_constant_bytes: 4,
                 set_layouts: &[sets.layout],
-                render_pass: render_pass.raw,
+                render_pass: target.render_pass.raw,
                 dynamic_line_width: true,
                 vertex_stride: 0,
                 vertex_attributes: &[],
             },
         )?;
-        Ok(Self { grid, line_width, pipeline, render_pass, target, sets, device: device.clone() })
+        Ok(Self { grid, line_width, pipeline, target, sets, device: device.clone() })
     }
 
     pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize) {
         let dev = &self.device;
-        let set = self.sets.sets[frame_index];
-        self.render_pass.begin(cmd);
-        set_viewport(dev, cmd, self.target.extent);
+        self.target.render_pass.begin(cmd);
+        self.pipeline.bind(cmd, Some(self.sets.sets[frame_index]));
+        self.pipeline.push(cmd, &self.grid.to_ne_bytes());
         unsafe {
             dev.raw.cmd_set_line_width(cmd, self.line_width);
-            dev.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw);
-            dev.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.layout, 0, &[set], &[]);
-            dev.raw.cmd_push_constants(cmd, self.pipeline.layout, vk::ShaderStageFlags::ALL_GRAPHICS, 0, &self.grid.to_ne_bytes());
             dev.raw.cmd_draw(cmd, self.grid * self.grid, 1, 0, 0);
         }
-        self.render_pass.end(cmd);
+        self.target.render_pass.end(cmd);
     }
 }

@@ -9,9 +9,8 @@
 use crate::error::{Error, Result};
 use crate::shader_math::MAX_SUBDIVISION;
 use crate::vk::device::Device;
-use crate::vk::image::Image;
-use crate::vk::pipeline::{set_viewport, Blend, GraphicsPipelineDesc, Pipeline};
-use crate::vk::render_pass::{Attachment, Load, RenderPass};
+use crate::vk::pipeline::{Blend, GraphicsPipelineDesc, Pipeline};
+use crate::vk::render_pass::ColorTarget;
 use ash::vk;
 use std::sync::Arc;
 
@@ -92,9 +91,7 @@ const _: () = assert!(std::mem::size_of::<GridSplatPush>() == 24);
 pub struct GridSplatPass {
     pub settings: GridSplatSettings,
     pipeline: Pipeline,
-    render_pass: RenderPass,
-    /// Declared last: the framebuffer above refers to its view.
-    pub target: Image,
+    pub target: ColorTarget,
     device: Arc<Device>,
 }
 
@@ -108,19 +105,7 @@ impl GridSplatPass {
         final_layout: vk::ImageLayout,
     ) -> Result<Self> {
         settings.validate(device)?;
-        let target = Image::new(
-            device,
-            "grid_splat target",
-            extent,
-            TARGET_FORMAT,
-            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC | vk::ImageUsageFlags::SAMPLED,
-        )?;
-        let render_pass = RenderPass::new(
-            device,
-            "grid_splat",
-            &[Attachment { image: &target, load: Load::Clear([0.0; 4]), final_layout }],
-            None,
-        )?;
+        let target = ColorTarget::new(device, "grid_splat", extent, TARGET_FORMAT, final_layout)?;
         let pipeline = Pipeline::graphics(
             device,
             &GraphicsPipelineDesc {
@@ -136,13 +121,13 @@ impl GridSplatPass {
                 specialization: &[(0, settings.subdivision)],
                 push_constant_bytes: std::mem::size_of::<GridSplatPush>() as u32,
                 set_layouts: &[],
-                render_pass: render_pass.raw,
+                render_pass: target.render_pass.raw,
                 dynamic_line_width: false,
                 vertex_stride: 0,
                 vertex_attributes: &[],
             },
         )?;
-        Ok(Self { settings, pipeline, render_pass, target, device: device.clone() })
+        Ok(Self { settings, pipeline, target, device: device.clone() })
     }
 
     pub fn record(&self, cmd: vk::CommandBuffer, time: f32) {
@@ -154,20 +139,10 @@ impl GridSplatPass {
             wave_amplitude: s.wave_amplitude,
             time,
         };
-        let dev = &self.device.raw;
-        self.render_pass.begin(cmd);
-        set_viewport(&self.device, cmd, self.target.extent);
-        unsafe {
-            dev.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw);
-            dev.cmd_push_constants(
-                cmd,
-                self.pipeline.layout,
-                vk::ShaderStageFlags::ALL_GRAPHICS,
-                0,
-                bytemuck::bytes_of(&push),
-            );
-            dev.cmd_draw(cmd, s.grid * s.grid, 1, 0, 0);
-        }
-        self.render_pass.end(cmd);
+        self.target.render_pass.begin(cmd);
+        self.pipeline.bind(cmd, None);
+        self.pipeline.push(cmd, bytemuck::bytes_of(&push));
+        unsafe { self.device.raw.cmd_draw(cmd, s.grid * s.grid, 1, 0, 0) };
+        self.target.render_pass.end(cmd);
     }
 }

@@ -10,7 +10,7 @@ use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
 use crate::vk::image::Image;
-use crate::vk::pipeline::{set_viewport, Blend, GraphicsPipelineDesc, Pipeline};
+use crate::vk::pipeline::{Blend, GraphicsPipelineDesc, Pipeline};
 use crate::vk::render_pass::{Attachment, Load, RenderPass};
 use ash::vk;
 use std::sync::Arc;
@@ -95,16 +95,11 @@ impl ScenePass {
         let dev = &self.device;
         let set = self.sets.sets[frame_index];
         self.render_pass.begin(cmd);
-        set_viewport(dev, cmd, self.color.extent);
-        unsafe {
-            dev.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.mesh_pipeline.raw);
-            dev.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, self.mesh_pipeline.layout, 0, &[set], &[]);
-        }
+        self.mesh_pipeline.bind(cmd, Some(set));
         meshes.draw(dev, cmd);
-        unsafe {
-            dev.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.water_pipeline.raw);
-            dev.raw.cmd_draw(cmd, 6 * WATER_GRID_CELLS * WATER_GRID_CELLS, 1, 0, 0);
-        }
+        // Same set layout: set 0 stays bound across the pipeline change.
+        self.water_pipeline.bind(cmd, None);
+        unsafe { dev.raw.cmd_draw(cmd, 6 * WATER_GRID_CELLS * WATER_GRID_CELLS, 1, 0, 0) };
         self.render_pass.end(cmd);
     }
 }

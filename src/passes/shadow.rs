@@ -10,7 +10,7 @@ use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
 use crate::vk::image::Image;
-use crate::vk::pipeline::{set_viewport, Blend, GraphicsPipelineDesc, Pipeline};
+use crate::vk::pipeline::{Blend, GraphicsPipelineDesc, Pipeline};
 use crate::vk::render_pass::{Attachment, Load, RenderPass};
 use ash::vk;
 use std::sync::Arc;
@@ -23,7 +23,8 @@ pub struct ShadowPass {
     render_pass: RenderPass,
     pub position: Image,
     pub normal: Image,
-    depth: Image,
+    /// Only attached (depth testing); kept alive here for the framebuffer.
+    _depth: Image,
     /// This pass's descriptor sets (one per frame in flight), written by the frame.
     pub sets: DescriptorSets,
     device: Arc<Device>,
@@ -72,18 +73,14 @@ impl ShadowPass {
                 vertex_attributes: &MESH_ATTRIBUTES[..2],
             },
         )?;
-        Ok(Self { pipeline, render_pass, position, normal, depth, sets, device: device.clone() })
+        Ok(Self { pipeline, render_pass, position, normal, _depth: depth, sets, device: device.clone() })
     }
 
     pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize, meshes: &GpuMeshes) {
         let dev = &self.device;
         let set = self.sets.sets[frame_index];
         self.render_pass.begin(cmd);
-        set_viewport(dev, cmd, self.depth.extent);
-        unsafe {
-            dev.raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.raw);
-            dev.raw.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.layout, 0, &[set], &[]);
-        }
+        self.pipeline.bind(cmd, Some(set));
         meshes.draw(dev, cmd);
         self.render_pass.end(cmd);
     }

@@ -185,6 +185,24 @@ impl Pipeline {
     }
 }
 
+impl Pipeline {
+    /// Binds the pipeline and, if given, its descriptor set 0.
+    pub fn bind(&self, cmd: vk::CommandBuffer, set: Option<vk::DescriptorSet>) {
+        let dev = &self.device.raw;
+        unsafe {
+            dev.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.raw);
+            if let Some(set) = set {
+                dev.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, self.layout, 0, &[set], &[]);
+            }
+        }
+    }
+
+    /// Pushes `bytes` at offset 0 (every stage sees the push-constant block).
+    pub fn push(&self, cmd: vk::CommandBuffer, bytes: &[u8]) {
+        unsafe { self.device.raw.cmd_push_constants(cmd, self.layout, vk::ShaderStageFlags::ALL_GRAPHICS, 0, bytes) };
+    }
+}
+
 impl Drop for Pipeline {
     fn drop(&mut self) {
         unsafe {

@@ -4,6 +4,7 @@
 
 use super::device::Device;
 use super::image::Image;
+use super::pipeline::set_viewport;
 use crate::error::{Result, VkResultExt};
 use ash::vk;
 use std::sync::Arc;
@@ -123,6 +124,8 @@ impl RenderPass {
         Ok(pass)
     }
 
+    /// Begins the pass and sets the viewport and scissor to its whole extent (every pipeline
+    /// takes them as dynamic state).
     pub fn begin(&self, cmd: vk::CommandBuffer) {
         let info = vk::RenderPassBeginInfo::default()
             .render_pass(self.raw)
@@ -130,6 +133,7 @@ impl RenderPass {
             .render_area(vk::Rect2D { offset: vk::Offset2D::default(), extent: self.extent })
             .clear_values(&self.clear_values);
         unsafe { self.device.raw.cmd_begin_render_pass(cmd, &info, vk::SubpassContents::INLINE) };
+        set_viewport(&self.device, cmd, self.extent);
     }
 
     pub fn end(&self, cmd: vk::CommandBuffer) {
@@ -143,5 +147,28 @@ impl Drop for RenderPass {
             self.device.raw.destroy_framebuffer(self.framebuffer, None);
             self.device.raw.destroy_render_pass(self.raw, None);
         }
+    }
+}
+
+/// One colour image a pass draws into, cleared to zero every frame and left in
+/// `final_layout` for its reader: the shape of the photon, filter and compose passes.
+pub struct ColorTarget {
+    // The render pass first: its framebuffer refers to the image's view.
+    pub render_pass: RenderPass,
+    pub image: Image,
+}
+
+impl ColorTarget {
+    pub fn new(
+        device: &Arc<Device>,
+        name: &str,
+        extent: vk::Extent2D,
+        format: vk::Format,
+        final_layout: vk::ImageLayout,
+    ) -> Result<Self> {
+        let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC;
+        let image = Image::new(device, name, extent, format, usage)?;
+        let render_pass = RenderPass::new(device, name, &[Attachment { image: &image, load: Load::Clear([0.0; 4]), final_layout }], None)?;
+        Ok(Self { render_pass, image })
     }
 }
