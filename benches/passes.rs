@@ -2,12 +2,13 @@
 //! returns the sum of the pass's timestamp durations, not wall time.
 //!
 //! `cargo bench --bench passes` measures; `cargo test --bench passes` (part of the test
-//! command) runs each benchmark once as a smoke test. Validation is off here: the layers
+//! command) runs each benchmark once as a smoke test. Two groups: the foundation's grid
+//! splat at the paper's grid sizes, and every pass of the frame on the built-in scenes. Validation is off here: the layers
 //! would dominate the times. Pick the device with UNDERLIGHT_DEVICE.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use std::time::Duration;
-use underlight::headless::GridSplatRenderer;
+use underlight::headless::{GridSplatRenderer, SceneRenderer};
 use underlight::passes::grid_splat::GridSplatSettings;
 use underlight::passes::PassId;
 use underlight::vk::{vk, Context, ContextDesc};
@@ -47,5 +48,35 @@ fn grid_splat(c: &mut Criterion) {
     assert!(report.is_clean(), "{report}");
 }
 
-criterion_group!(benches, grid_splat);
+/// Every pass of the method's frame on the built-in scenes at the paper's settings: one
+/// benchmark per pass, each returning only that pass's GPU time.
+fn frame_passes(c: &mut Criterion) {
+    let mut desc = ContextDesc::from_env();
+    desc.validation = false;
+    let ctx = Context::new(&desc).expect("Vulkan context");
+    // UNDERLIGHT_BENCH_SCENES=tank,port,storage picks scenes; the tank alone by default.
+    let scenes = std::env::var("UNDERLIGHT_BENCH_SCENES").unwrap_or_else(|_| "tank".into());
+    for name in scenes.split(',') {
+        let scene = underlight::scene::load(name).expect("scene");
+        let out = vk::Extent2D { width: scene.output[0], height: scene.output[1] };
+        let mut renderer = SceneRenderer::new(&ctx.device, &scene, out).unwrap();
+        let mut group = c.benchmark_group(format!("frame/{name}"));
+        group.sample_size(10).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(5));
+        for pass in renderer.frame.plan.passes.clone() {
+            group.bench_function(pass.name(), |b| {
+                b.iter_custom(|iters| {
+                    let (timings, _) = renderer.render(iters as u32, 0.0, 1.0 / 60.0, false).unwrap();
+                    let ms: f64 = timings.iter().filter_map(|t| t.get(pass)).sum();
+                    assert!(ms > 0.0, "{pass} reported no GPU time");
+                    Duration::from_secs_f64(ms * 1e-3)
+                })
+            });
+        }
+        group.finish();
+    }
+    let report = ctx.shutdown();
+    assert!(report.is_clean(), "{report}");
+}
+
+criterion_group!(benches, grid_splat, frame_passes);
 criterion_main!(benches);
