@@ -11,7 +11,7 @@ use underlight::frame::FramePlan;
 use underlight::headless::{SceneImages, SceneRenderer};
 use underlight::image_io::HdrImage;
 use underlight::passes::PassId;
-use underlight::scene::{Light, LightKind, Scene};
+use underlight::scene::{Light, LightKind, Scene, WaterModel};
 use underlight::shader_math::fresnel_transmittance;
 use underlight::vk::vk;
 
@@ -220,6 +220,12 @@ fn plan_skips_what_the_scene_does_not_need() {
 
 #[test]
 fn geometry_shader_photons_agree_with_the_cpu_twin() {
+    for model in [WaterModel::CircularCosine, WaterModel::AxisCosineNoise] {
+        compare_photons_with_twin(model);
+    }
+}
+
+fn compare_photons_with_twin(model: WaterModel) {
     use glam::{UVec2, Vec3};
     use underlight::frame::uniforms::FrameUniforms;
     use underlight::frame::FrameOptions;
@@ -228,7 +234,7 @@ fn geometry_shader_photons_agree_with_the_cpu_twin() {
     // Waves with noise and a tilted sun, so refraction, the iteration and the drops all matter.
     let mut scene = pool(0.04);
     scene.water.noise_amplitude = 0.02;
-    scene.water.model = underlight::scene::WaterModel::CircularCosine;
+    scene.water.model = model;
     scene.light.direction = Vec3::new(0.3, -1.0, 0.2).normalize();
     scene.effects.caustic_grid = 48;
     scene.effects.caustic_subdivision = 3;
@@ -285,7 +291,7 @@ fn geometry_shader_photons_agree_with_the_cpu_twin() {
     }
     let total = (grid * sub).pow(2) as usize;
     eprintln!(
-        "photons: {total}, landed on the GPU {landed}, both {both}, disagree {disagree}, \
+        "{model:?}: photons: {total}, landed on the GPU {landed}, both {both}, disagree {disagree}, \
          hits > 2 texels apart {far}, worst {worst} m (texel {texel} m)"
     );
     assert!(landed > total / 4, "too few photons land for the comparison to mean much");
