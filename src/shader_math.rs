@@ -32,39 +32,24 @@ pub fn demo_wave_gradient(uv: Vec2, t: f32) -> Vec2 {
 pub const WATER_CIRCULAR_COSINE: i32 = 0;
 pub const WATER_AXIS_COSINE_NOISE: i32 = 1;
 
-/// GLSL `WaterParams`, as the frame uniforms carry it (std140: see `gpu::FrameUniforms`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct WaterParams {
-    pub model: i32,
-    pub level: f32,
-    pub amplitude: f32,
-    pub wavelength: f32,
-    pub speed: f32,
-    pub noise_amplitude: f32,
-    pub noise_scale: f32,
-    pub ior: f32,
-    pub center: Vec2,
-    pub extent_min: Vec2,
-    pub extent_max: Vec2,
-}
+/// The water's parameters: the scene's `Water`, which the frame uniforms carry to GLSL's
+/// `WaterParams` (the model as `WATER_*`).
+pub use crate::scene::{Water as WaterParams, WaterModel};
 
-impl WaterParams {
-    pub fn from_scene(w: &crate::scene::Water) -> Self {
-        Self {
-            model: match w.model {
-                crate::scene::WaterModel::CircularCosine => WATER_CIRCULAR_COSINE,
-                crate::scene::WaterModel::AxisCosineNoise => WATER_AXIS_COSINE_NOISE,
-            },
-            level: w.level,
-            amplitude: w.amplitude,
-            wavelength: w.wavelength,
-            speed: w.speed,
-            noise_amplitude: w.noise_amplitude,
-            noise_scale: w.noise_scale,
-            ior: w.ior,
-            center: w.center,
-            extent_min: w.extent_min,
-            extent_max: w.extent_max,
+impl WaterModel {
+    /// GLSL `WATER_CIRCULAR_COSINE` / `WATER_AXIS_COSINE_NOISE`.
+    pub fn glsl_id(self) -> i32 {
+        match self {
+            WaterModel::CircularCosine => WATER_CIRCULAR_COSINE,
+            WaterModel::AxisCosineNoise => WATER_AXIS_COSINE_NOISE,
+        }
+    }
+
+    pub fn from_glsl_id(id: i32) -> Self {
+        if id == WATER_CIRCULAR_COSINE {
+            WaterModel::CircularCosine
+        } else {
+            WaterModel::AxisCosineNoise
         }
     }
 }
@@ -169,7 +154,7 @@ pub fn water_noise_uv(w: &WaterParams, xz: Vec2, t: f32) -> Vec2 {
 pub fn water_height_grad(w: &WaterParams, noise: &NoiseTexture, xz: Vec2, t: f32) -> Vec3 {
     let k = 2.0 * PI / w.wavelength;
     let phase_t = glsl_mod(k * w.speed * t, 2.0 * PI);
-    let mut hg = if w.model == WATER_CIRCULAR_COSINE {
+    let mut hg = if w.model == WaterModel::CircularCosine {
         let d = xz - w.center;
         let r = d.length();
         let ph = k * r - phase_t;
@@ -279,7 +264,7 @@ impl PhotonCaster<'_> {
     fn water(&self) -> WaterParams {
         let u = self.uniforms;
         WaterParams {
-            model: u.water1[3] as i32,
+            model: WaterModel::from_glsl_id(u.water1[3] as i32),
             level: u.water0[0],
             amplitude: u.water0[1],
             wavelength: u.water0[2],
@@ -394,7 +379,7 @@ impl PhotonCaster<'_> {
 mod tests {
     use super::*;
 
-    fn water(model: i32) -> WaterParams {
+    fn water(model: WaterModel) -> WaterParams {
         WaterParams {
             model,
             level: 0.0,
@@ -413,7 +398,7 @@ mod tests {
     #[test]
     fn water_gradient_matches_finite_differences() {
         let noise = NoiseTexture::generate();
-        for model in [WATER_CIRCULAR_COSINE, WATER_AXIS_COSINE_NOISE] {
+        for model in [WaterModel::CircularCosine, WaterModel::AxisCosineNoise] {
             let w = water(model);
             for &(x, z, t) in &[(0.7f32, 1.1f32, 0.0f32), (-2.3, 0.4, 3.7), (1.9, -3.3, 11.0)] {
                 let e = 1e-3;
@@ -421,7 +406,7 @@ mod tests {
                 let fd = Vec2::new((h(e, 0.0) - h(-e, 0.0)) / (2.0 * e), (h(0.0, e) - h(0.0, -e)) / (2.0 * e));
                 let g = water_height_grad(&w, &noise, Vec2::new(x, z), t);
                 // The noise gradient is interpolated, not differentiated, so allow a little.
-                assert!((fd - Vec2::new(g.y, g.z)).length() < 0.02 * (1.0 + fd.length()), "model {model}: fd {fd} vs {g}");
+                assert!((fd - Vec2::new(g.y, g.z)).length() < 0.02 * (1.0 + fd.length()), "model {model:?}: fd {fd} vs {g}");
             }
         }
     }
@@ -439,7 +424,7 @@ mod tests {
     #[test]
     fn surface_intersection_lands_on_the_surface() {
         let noise = NoiseTexture::generate();
-        let w = water(WATER_CIRCULAR_COSINE);
+        let w = water(WaterModel::CircularCosine);
         let o = Vec3::new(0.4, 10.0, -0.8);
         let d = Vec3::new(0.2, -1.0, 0.1).normalize();
         let t = water_intersect(&w, &noise, o, d, 2.0);

@@ -7,8 +7,7 @@
 //! over the part of the scene the camera can see; a point light stays where it is and
 //! projects in perspective over the same region.
 
-use crate::scene::{LightKind, Scene, WaterModel};
-use crate::shader_math::{WATER_AXIS_COSINE_NOISE, WATER_CIRCULAR_COSINE};
+use crate::scene::{LightKind, Scene};
 use glam::{Mat4, Vec3, Vec4};
 
 /// std140 image of `glsl/frame.glsl`'s `FrameUniforms`.
@@ -226,10 +225,7 @@ impl FrameUniforms {
         };
         let surface_irradiance = surface_irradiance(scene);
         let exposure = 2.0 * std::f32::consts::PI / surface_irradiance.max(1e-12);
-        let model = match w.model {
-            WaterModel::CircularCosine => WATER_CIRCULAR_COSINE,
-            WaterModel::AxisCosineNoise => WATER_AXIS_COSINE_NOISE,
-        } as f32;
+        let model = w.model.glsl_id() as f32;
         let m = &scene.medium;
         Self {
             camera_view_proj: (proj * view).to_cols_array_2d(),
