@@ -16,6 +16,7 @@ pub mod passes;
 pub mod scene;
 pub mod shader_math;
 pub mod shaders;
+pub mod viewer;
 pub mod vk;
 
 pub use error::{Error, Result};

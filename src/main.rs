@@ -26,6 +26,8 @@ struct Cli {
 enum Command {
     /// Render a scene headless to a PNG (and HDR float dumps) and print per-pass GPU times.
     Render(SceneArgs),
+    /// Open a window and run the method live (keys are printed at start).
+    View(ViewArgs),
     /// The foundation's demo: a geometry-shader photon grid splatted into a float target.
     GridSplat(RenderArgs),
     /// Compile glsl/ into spirv/ (the committed SPIR-V the binary embeds).
@@ -63,6 +65,37 @@ struct SceneArgs {
     /// Print which passes the scene needs and why, then render.
     #[arg(long)]
     explain: bool,
+}
+
+#[derive(clap::Args)]
+struct ViewArgs {
+    /// A built-in scene (tank, port, storage) or a path to a scene .toml file.
+    #[arg(long, default_value = "tank")]
+    scene: String,
+    /// Window size; defaults to the scene's output size.
+    #[arg(long)]
+    width: Option<u32>,
+    #[arg(long)]
+    height: Option<u32>,
+    /// fifo (default, no tearing), mailbox or immediate.
+    #[arg(long, default_value = "fifo")]
+    present_mode: String,
+    /// Exit after this many frames.
+    #[arg(long)]
+    frames: Option<u32>,
+    /// With --frames: save the last presented frame to this PNG.
+    #[arg(long, requires = "frames")]
+    screenshot: Option<PathBuf>,
+    /// Steps to run, then exit: frames:N, resize:WxH, minimize, restore, toggle:caustics|godrays|filter,
+    /// water, amplitude:F, move:R/U/F, look:YAW/PITCH, preset:default|high, screenshot:PATH.
+    #[arg(long, conflicts_with = "frames")]
+    script: Option<String>,
+    /// Animation time at start, seconds.
+    #[arg(long, default_value_t = 0.0)]
+    time: f32,
+    /// Start with time paused (P toggles, N steps).
+    #[arg(long)]
+    paused: bool,
 }
 
 #[derive(clap::Args)]
@@ -160,6 +193,7 @@ fn run(cli: Cli) -> Result<i32> {
             Ok(0)
         }
         Command::Render(args) => render_scene(&cli, args),
+        Command::View(args) => view(&cli, args),
         Command::GridSplat(args) => grid_splat(&cli, args),
     }
 }
@@ -240,6 +274,57 @@ fn render_scene(cli: &Cli, args: &SceneArgs) -> Result<i32> {
     }
     println!("\nmedian over {} frames:\n{}", timings.len(), headless::median_timings(&timings));
     Ok(finish(ctx))
+}
+
+fn view(cli: &Cli, args: &ViewArgs) -> Result<i32> {
+    use underlight::viewer::{self, script, ViewerOptions};
+    use underlight::vk::swapchain::PresentMode;
+    let scene = underlight::scene::load(&args.scene)?;
+    let present_mode = match args.present_mode.as_str() {
+        "fifo" => PresentMode::Fifo,
+        "mailbox" => PresentMode::Mailbox,
+        "immediate" => PresentMode::Immediate,
+        other => bail!("--present-mode {other:?}: use fifo, mailbox or immediate"),
+    };
+    let size = match (args.width, args.height) {
+        (None, None) => None,
+        (w, h) => {
+            let (w, h) = (w.unwrap_or(scene.output[0]), h.unwrap_or(scene.output[1]));
+            if w == 0 || h == 0 {
+                bail!("--width and --height must be at least 1 (got {w}×{h})");
+            }
+            Some((w, h))
+        }
+    };
+    if args.frames == Some(0) {
+        bail!("--frames must be at least 1");
+    }
+    if let Some(path) = &args.screenshot {
+        prepare_outputs([path])?;
+    }
+    let script = match &args.script {
+        Some(text) => script::parse(text)?,
+        None => Vec::new(),
+    };
+    let report = viewer::run(ViewerOptions {
+        scene,
+        context: context_desc(cli),
+        present_mode,
+        size,
+        script,
+        frames: args.frames,
+        screenshot: args.screenshot.clone(),
+        time: args.time,
+        paused: args.paused,
+    })?;
+    println!("presented {} frames", report.frames_presented);
+    if report.shutdown.is_clean() {
+        Ok(0)
+    } else {
+        eprint!("{}", report.shutdown);
+        eprintln!("error: Vulkan validation or leak report is not clean");
+        Ok(2)
+    }
 }
 
 fn grid_splat(cli: &Cli, args: &RenderArgs) -> Result<i32> {

@@ -338,6 +338,12 @@ impl Frame {
         &self.scene
     }
 
+    /// The scene, to change what the uniforms carry (camera, water, medium) between frames.
+    /// Geometry and effect switches need a new frame: they decide passes and targets.
+    pub fn scene_mut(&mut self) -> &mut Scene {
+        &mut self.scene
+    }
+
     /// Writes this frame's uniforms (the slot's fence has signalled, so its buffer is free)
     /// and records the passes through the slot's timer.
     pub fn record(&mut self, slot: &mut FrameSlot, time: f32) {

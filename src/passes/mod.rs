@@ -22,12 +22,14 @@ pub enum PassId {
     Compose,
     /// The foundation's proof-of-stack pass: a photon grid subdivided by a geometry shader.
     GridSplat,
-    /// Copy of a target into host memory (headless mode only).
+    /// Copy of a target into host memory (headless mode, screenshots).
     Readback,
+    /// Blit of the output into the window's swapchain image (viewer only).
+    Present,
 }
 
 impl PassId {
-    pub const ALL: [PassId; 8] = [
+    pub const ALL: [PassId; 9] = [
         PassId::Shadow,
         PassId::Scene,
         PassId::Caustics,
@@ -36,6 +38,7 @@ impl PassId {
         PassId::Compose,
         PassId::GridSplat,
         PassId::Readback,
+        PassId::Present,
     ];
 
     pub fn name(self) -> &'static str {
@@ -54,6 +57,7 @@ impl PassId {
             PassId::Compose => c"compose",
             PassId::GridSplat => c"grid_splat",
             PassId::Readback => c"readback",
+            PassId::Present => c"present",
         }
     }
 }

@@ -143,6 +143,13 @@ impl FrameRing {
         Ok(slot)
     }
 
+    /// Ends the current frame's recording without submitting it (e.g. the swapchain went
+    /// out of date after `begin`). Its fence stays signalled, so the slot is free.
+    pub fn abandon(&mut self) -> Result<()> {
+        let slot = &mut self.slots[self.current];
+        unsafe { self.device.raw.end_command_buffer(slot.cmd) }.call("vkEndCommandBuffer")
+    }
+
     /// Ends and submits the current frame. `waits`/`signals` connect it to a swapchain.
     pub fn submit(
         &mut self,

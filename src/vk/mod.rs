@@ -10,6 +10,7 @@ pub mod instance;
 pub mod pipeline;
 pub mod readback;
 pub mod render_pass;
+pub mod swapchain;
 pub mod sampler;
 pub mod timing;
 pub mod upload;

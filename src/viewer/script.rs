@@ -1,0 +1,113 @@
+//! Scripted viewer sessions (`underlight view --script ...`), so tests and demos can drive
+//! the window the way a person would: resize, minimise, toggle effects, move the camera.
+
+use anyhow::{bail, Context as _, Result};
+
+/// One step of a script. Steps run in order; `Frames` renders before the next step.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Step {
+    /// Render this many frames.
+    Frames(u32),
+    /// Ask the window system for a new inner size.
+    Resize(u32, u32),
+    /// Minimise: the window reports a 0×0 surface, so no frame is drawn until restored.
+    Minimize,
+    Restore,
+    /// Switch an effect on or off (rebuilds the frame: passes and targets follow the scene).
+    Toggle(Effect),
+    /// Switch to the other water model.
+    NextWater,
+    /// Scale the wave amplitude by this factor.
+    Amplitude(f32),
+    /// Move the camera by metres along (right, up, forward) of its view.
+    Move(f32, f32, f32),
+    /// Turn the camera by degrees (yaw right, pitch up).
+    Look(f32, f32),
+    /// The paper's high setting (grids 500²×4 / 300²×4, points 2–10) or its default.
+    Preset(Preset),
+    /// Write the presented image to this PNG.
+    Screenshot(String),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Effect {
+    Caustics,
+    Godrays,
+    Filter,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Preset {
+    Default,
+    High,
+}
+
+/// Parses `step,step,...`, e.g. `frames:3,resize:320x240,minimize,frames:2,restore`.
+pub fn parse(text: &str) -> Result<Vec<Step>> {
+    let mut steps = Vec::new();
+    for (i, item) in text.split(',').map(str::trim).filter(|s| !s.is_empty()).enumerate() {
+        let (name, arg) = item.split_once(':').unwrap_or((item, ""));
+        let bad = || format!("script step {} ({item:?})", i + 1);
+        let floats = |n: usize| -> Result<Vec<f32>> {
+            let v: Vec<f32> = arg.split('/').map(|x| x.trim().parse::<f32>()).collect::<Result<_, _>>().with_context(bad)?;
+            if v.len() != n || v.iter().any(|x| !x.is_finite()) {
+                bail!("{}: expected {n} finite number(s) separated by '/'", bad());
+            }
+            Ok(v)
+        };
+        steps.push(match name {
+            "frames" => Step::Frames(arg.parse().with_context(bad)?),
+            "resize" => {
+                let (w, h) = arg.split_once('x').with_context(|| format!("{}: expected WxH", bad()))?;
+                Step::Resize(w.parse().with_context(bad)?, h.parse().with_context(bad)?)
+            }
+            "minimize" => Step::Minimize,
+            "restore" => Step::Restore,
+            "toggle" => Step::Toggle(match arg {
+                "caustics" => Effect::Caustics,
+                "godrays" => Effect::Godrays,
+                "filter" => Effect::Filter,
+                _ => bail!("{}: toggle caustics, godrays or filter", bad()),
+            }),
+            "water" => Step::NextWater,
+            "amplitude" => Step::Amplitude(floats(1)?[0]),
+            "move" => {
+                let v = floats(3)?;
+                Step::Move(v[0], v[1], v[2])
+            }
+            "look" => {
+                let v = floats(2)?;
+                Step::Look(v[0], v[1])
+            }
+            "preset" => Step::Preset(match arg {
+                "default" => Preset::Default,
+                "high" => Preset::High,
+                _ => bail!("{}: preset default or high", bad()),
+            }),
+            "screenshot" if !arg.is_empty() => Step::Screenshot(arg.to_string()),
+            _ => bail!(
+                "{}: unknown step; steps are frames:N, resize:WxH, minimize, restore, toggle:EFFECT, water, \
+                 amplitude:F, move:R/U/F, look:YAW/PITCH, preset:default|high, screenshot:PATH",
+                bad()
+            ),
+        });
+    }
+    Ok(steps)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_every_step_and_rejects_bad_ones() {
+        let s = parse("frames:2, resize:320x240,minimize,restore,toggle:godrays,water,amplitude:1.5,move:0/0/1,look:10/-5,preset:high,screenshot:a.png").unwrap();
+        assert_eq!(s.len(), 11);
+        assert_eq!(s[1], Step::Resize(320, 240));
+        assert_eq!(s[7], Step::Move(0.0, 0.0, 1.0));
+        for bad in ["frames:x", "resize:10", "toggle:fog", "move:1/2", "amplitude:nan", "jump"] {
+            let e = parse(bad).unwrap_err().to_string();
+            assert!(e.contains("script step 1"), "{bad}: {e}");
+        }
+    }
+}
