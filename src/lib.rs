@@ -8,6 +8,7 @@
 //! - [`headless`], [`image_io`]: off-screen rendering and its files.
 #![warn(unsafe_op_in_unsafe_fn)]
 
+pub mod bench;
 pub mod error;
 pub mod frame;
 pub mod headless;

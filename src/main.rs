@@ -28,6 +28,8 @@ enum Command {
     Render(SceneArgs),
     /// Open a window and run the method live (keys are printed at start).
     View(ViewArgs),
+    /// Per-pass GPU times (median, p5, p95) for the paper's configurations, validation off.
+    Bench(BenchArgs),
     /// The foundation's demo: a geometry-shader photon grid splatted into a float target.
     GridSplat(RenderArgs),
     /// Compile glsl/ into spirv/ (the committed SPIR-V the binary embeds).
@@ -65,6 +67,28 @@ struct SceneArgs {
     /// Print which passes the scene needs and why, then render.
     #[arg(long)]
     explain: bool,
+}
+
+#[derive(clap::Args)]
+struct BenchArgs {
+    /// A built-in scene or a scene file.
+    #[arg(long, default_value = "tank")]
+    scene: String,
+    /// Configurations to run, comma-separated: paper-800, paper-1440, paper-1m-photons,
+    /// paper-1440-high, tiny; or "paper" for the paper's four.
+    #[arg(long, default_value = "paper")]
+    config: String,
+    /// Measured frames per configuration.
+    #[arg(long, default_value_t = 30)]
+    frames: u32,
+    /// Frames rendered first and discarded (pipeline and cache warm-up).
+    #[arg(long, default_value_t = 5)]
+    warmup: u32,
+    /// Also write the results as JSON / CSV.
+    #[arg(long)]
+    json: Option<PathBuf>,
+    #[arg(long)]
+    csv: Option<PathBuf>,
 }
 
 #[derive(clap::Args)]
@@ -194,6 +218,7 @@ fn run(cli: Cli) -> Result<i32> {
         }
         Command::Render(args) => render_scene(&cli, args),
         Command::View(args) => view(&cli, args),
+        Command::Bench(args) => bench(&cli, args),
         Command::GridSplat(args) => grid_splat(&cli, args),
     }
 }
@@ -273,6 +298,50 @@ fn render_scene(cli: &Cli, args: &SceneArgs) -> Result<i32> {
         }
     }
     println!("\nmedian over {} frames:\n{}", timings.len(), headless::median_timings(&timings));
+    Ok(finish(ctx))
+}
+
+fn bench(cli: &Cli, args: &BenchArgs) -> Result<i32> {
+    use underlight::bench;
+    if cli.validation {
+        bail!("bench measures with validation off: drop --validation (the layers would dominate the times)");
+    }
+    let all = bench::configs();
+    let names: Vec<&str> = if args.config == "paper" {
+        all.iter().filter(|c| c.name.starts_with("paper")).map(|c| c.name).collect()
+    } else {
+        args.config.split(',').map(str::trim).collect()
+    };
+    let mut chosen = Vec::new();
+    for n in names {
+        match all.iter().find(|c| c.name == n) {
+            Some(c) => chosen.push(c.clone()),
+            None => bail!(
+                "--config {n:?}: unknown; configurations are {}",
+                all.iter().map(|c| c.name).collect::<Vec<_>>().join(", ")
+            ),
+        }
+    }
+    prepare_outputs(args.json.iter().chain(&args.csv))?;
+    let scene = underlight::scene::load(&args.scene)?;
+    let mut desc = context_desc(cli);
+    desc.validation = false;
+    let ctx = Context::new(&desc)?;
+    let info = &ctx.device.info;
+    let mut report = bench::BenchReport { device: info.name.clone(), driver: format!("{} {}", info.driver_name, info.driver_info), results: Vec::new() };
+    for c in &chosen {
+        eprintln!("{}: {}×{}, {} warm-up + {} frames…", c.name, c.width, c.height, args.warmup, args.frames);
+        report.results.push(bench::run_config(&ctx.device, &scene, c, args.frames, args.warmup)?);
+    }
+    print!("{}", report.table());
+    if let Some(p) = &args.json {
+        std::fs::write(p, serde_json::to_string_pretty(&report)?).with_context(|| format!("writing {}", p.display()))?;
+        println!("wrote {}", p.display());
+    }
+    if let Some(p) = &args.csv {
+        std::fs::write(p, report.csv()).with_context(|| format!("writing {}", p.display()))?;
+        println!("wrote {}", p.display());
+    }
     Ok(finish(ctx))
 }
 

@@ -1,0 +1,265 @@
+//! `underlight bench`: per-pass GPU times of the frame for the paper's configurations,
+//! from timestamp queries, with validation off. Warm-up frames are discarded; each pass's
+//! median, 5th and 95th percentile over the measured frames are reported, beside the frame
+//! rates the paper measured on its GTX 260 (2009).
+
+use crate::headless::SceneRenderer;
+use crate::passes::PassId;
+use crate::scene::Scene;
+use crate::vk::device::Device;
+use crate::vk::timing::PassTimings;
+use anyhow::{bail, Result};
+use ash::vk;
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::sync::Arc;
+
+/// A benchmark configuration: the output size and effect settings applied to a scene.
+#[derive(Clone, Debug, Serialize)]
+pub struct BenchConfig {
+    pub name: &'static str,
+    pub width: u32,
+    pub height: u32,
+    pub caustic_grid: u32,
+    pub godray_grid: u32,
+    /// Geometry-shader subdivision of both grids (the paper: 2, i.e. ×4 photons).
+    pub subdivision: u32,
+    /// Effect targets as fractions of the output; `None` keeps the scene's.
+    pub caustic_target_scale: Option<f32>,
+    pub godray_target_scale: Option<f32>,
+    pub point_size: Option<(f32, f32)>,
+    pub line_width: Option<f32>,
+    pub filter: bool,
+    /// The paper's frame rate for this configuration, as it states it.
+    pub paper_fps: &'static str,
+}
+
+/// The paper's table (method.md, "The paper's settings and results"), and a tiny one for
+/// smoke tests.
+pub fn configs() -> Vec<BenchConfig> {
+    let base = BenchConfig {
+        name: "",
+        width: 800,
+        height: 800,
+        caustic_grid: 200,
+        godray_grid: 100,
+        subdivision: 2,
+        // 512² and 128² at 800².
+        caustic_target_scale: Some(0.64),
+        godray_target_scale: Some(0.16),
+        point_size: None,
+        line_width: None,
+        filter: true,
+        paper_fps: "",
+    };
+    vec![
+        BenchConfig { name: "paper-800", paper_fps: "> 110", ..base.clone() },
+        BenchConfig { name: "paper-1440", width: 1440, height: 850, paper_fps: "> 60", ..base.clone() },
+        BenchConfig {
+            name: "paper-1m-photons",
+            caustic_grid: 500,
+            godray_grid: 300,
+            filter: false, // "filtering no longer needed"
+            paper_fps: "20–30",
+            ..base.clone()
+        },
+        BenchConfig {
+            name: "paper-1440-high",
+            width: 1440,
+            height: 850,
+            caustic_grid: 400,
+            godray_grid: 200,
+            godray_target_scale: Some(0.32), // 460×272 at 1440×850
+            point_size: Some((2.0, 10.0)),
+            line_width: Some(12.0),
+            paper_fps: "20",
+            ..base.clone()
+        },
+        BenchConfig {
+            name: "tiny",
+            width: 96,
+            height: 96,
+            caustic_grid: 16,
+            godray_grid: 8,
+            paper_fps: "-",
+            ..base
+        },
+    ]
+}
+
+impl BenchConfig {
+    /// The scene with this configuration's settings.
+    pub fn apply(&self, scene: &Scene) -> Scene {
+        let mut s = scene.clone();
+        let e = &mut s.effects;
+        e.caustic_grid = self.caustic_grid;
+        e.godray_grid = self.godray_grid;
+        e.caustic_subdivision = self.subdivision;
+        e.godray_subdivision = self.subdivision;
+        if let Some(v) = self.caustic_target_scale {
+            e.caustic_target_scale = v;
+        }
+        if let Some(v) = self.godray_target_scale {
+            e.godray_target_scale = v;
+        }
+        if let Some((lo, hi)) = self.point_size {
+            e.point_size_min = lo;
+            e.point_size_max = hi;
+        }
+        if let Some(w) = self.line_width {
+            e.line_width = w;
+        }
+        e.filter = self.filter;
+        s.output = [self.width, self.height];
+        s
+    }
+}
+
+/// Median, 5th and 95th percentile of one pass's GPU milliseconds.
+#[derive(Clone, Debug, Serialize)]
+pub struct PassStats {
+    pub pass: String,
+    pub median_ms: f64,
+    pub p5_ms: f64,
+    pub p95_ms: f64,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct BenchResult {
+    pub config: BenchConfig,
+    pub scene: String,
+    pub frames: usize,
+    /// Photons cast per frame: caustics and godrays (grid × subdivision, squared).
+    pub caustic_photons: u64,
+    pub godray_photons: u64,
+    pub passes: Vec<PassStats>,
+    /// Of the per-frame sum of the passes.
+    pub total: PassStats,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct BenchReport {
+    pub device: String,
+    pub driver: String,
+    pub results: Vec<BenchResult>,
+}
+
+/// The value at quantile `q` (0..=1) of sorted `v`, nearest rank.
+fn quantile(v: &[f64], q: f64) -> f64 {
+    v[((v.len() - 1) as f64 * q).round() as usize]
+}
+
+fn stats(name: &str, mut v: Vec<f64>) -> PassStats {
+    v.sort_by(f64::total_cmp);
+    PassStats { pass: name.into(), median_ms: quantile(&v, 0.5), p5_ms: quantile(&v, 0.05), p95_ms: quantile(&v, 0.95) }
+}
+
+/// Renders `warmup + frames` frames of `config` on `scene` and summarises the measured ones.
+pub fn run_config(device: &Arc<Device>, scene: &Scene, config: &BenchConfig, frames: u32, warmup: u32) -> Result<BenchResult> {
+    if frames == 0 {
+        bail!("--frames must be at least 1");
+    }
+    let s = config.apply(scene);
+    let extent = vk::Extent2D { width: config.width, height: config.height };
+    let mut renderer = SceneRenderer::new(device, &s, extent)?;
+    let (timings, _) = renderer.render(warmup + frames, 0.0, 1.0 / 60.0, false)?;
+    let measured: Vec<&PassTimings> = timings.iter().skip(warmup as usize).collect();
+    let mut passes = Vec::new();
+    for id in renderer.frame.plan.passes.iter().copied() {
+        let v: Vec<f64> = measured.iter().filter_map(|t| t.get(id)).collect();
+        if !v.is_empty() {
+            passes.push(stats(id.name(), v));
+        }
+    }
+    let totals = measured.iter().map(|t| t.total_ms()).collect();
+    let n = |grid: u32| (grid as u64 * config.subdivision as u64).pow(2);
+    Ok(BenchResult {
+        config: config.clone(),
+        scene: s.name.clone(),
+        frames: measured.len(),
+        caustic_photons: if renderer.frame.plan.runs(PassId::Caustics) { n(config.caustic_grid) } else { 0 },
+        godray_photons: if renderer.frame.plan.runs(PassId::Godrays) { n(config.godray_grid) } else { 0 },
+        passes,
+        total: stats("total", totals),
+    })
+}
+
+impl BenchReport {
+    /// The human-readable table: one row per configuration, per-pass medians, the total's
+    /// median [p5–p95], the frame rate that total allows, and the paper's.
+    pub fn table(&self) -> String {
+        let mut out = String::new();
+        let _ = writeln!(out, "device: {} ({})", self.device, self.driver);
+        let ids = ["shadow", "scene", "caustics", "godrays", "filter", "compose"];
+        let _ = write!(out, "{:<18} {:>10}", "config", "photons");
+        for id in ids {
+            let _ = write!(out, " {:>9}", id);
+        }
+        let _ = writeln!(out, " {:>26} {:>9} {:>10}", "total ms median [p5–p95]", "GPU fps", "paper fps");
+        for r in &self.results {
+            let _ = write!(out, "{:<18} {:>10}", r.config.name, r.caustic_photons + r.godray_photons);
+            for id in ids {
+                match r.passes.iter().find(|p| p.pass == id) {
+                    Some(p) => {
+                        let _ = write!(out, " {:>9.2}", p.median_ms);
+                    }
+                    None => {
+                        let _ = write!(out, " {:>9}", "-");
+                    }
+                }
+            }
+            let t = &r.total;
+            let span = format!("{:.2} [{:.2}–{:.2}]", t.median_ms, t.p5_ms, t.p95_ms);
+            let _ = writeln!(out, " {:>26} {:>9.1} {:>10}", span, 1000.0 / t.median_ms, r.config.paper_fps);
+        }
+        out
+    }
+
+    /// One CSV row per configuration and pass (the total as pass "total").
+    pub fn csv(&self) -> String {
+        let mut out = String::from("device,driver,config,scene,width,height,caustic_photons,godray_photons,frames,pass,median_ms,p5_ms,p95_ms\n");
+        for r in &self.results {
+            for p in r.passes.iter().chain(std::iter::once(&r.total)) {
+                let _ = writeln!(
+                    out,
+                    "\"{}\",\"{}\",{},{},{},{},{},{},{},{},{:.6},{:.6},{:.6}",
+                    self.device,
+                    self.driver,
+                    r.config.name,
+                    r.scene,
+                    r.config.width,
+                    r.config.height,
+                    r.caustic_photons,
+                    r.godray_photons,
+                    r.frames,
+                    p.pass,
+                    p.median_ms,
+                    p.p5_ms,
+                    p.p95_ms
+                );
+            }
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quantiles_are_nearest_rank() {
+        let s = stats("x", (1..=21).rev().map(|v| v as f64).collect());
+        assert_eq!((s.p5_ms, s.median_ms, s.p95_ms), (2.0, 11.0, 20.0));
+    }
+
+    #[test]
+    fn paper_configs_carry_the_papers_settings() {
+        let c = configs();
+        let high = c.iter().find(|c| c.name == "paper-1440-high").unwrap();
+        assert_eq!((high.width, high.height, high.caustic_grid, high.godray_grid), (1440, 850, 400, 200));
+        // 0.32 × 1440×850 is the paper's 460×272 godray target (to the pixel, rounded).
+        assert_eq!(((1440.0 * 0.32f32).round(), (850.0 * 0.32f32).round()), (461.0, 272.0));
+        assert!(!c.iter().find(|c| c.name == "paper-1m-photons").unwrap().filter);
+    }
+}

@@ -1,0 +1,37 @@
+//! `underlight bench` on a tiny configuration: every pass of the frame reports a positive
+//! GPU time, the total covers the passes, and the JSON and CSV parse and name the device.
+
+use std::process::Command;
+
+#[test]
+fn bench_smoke_reports_every_pass() {
+    let dir = std::env::temp_dir().join(format!("underlight-bench-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (json, csv) = (dir.join("b.json"), dir.join("b.csv"));
+    let out = Command::new(env!("CARGO_BIN_EXE_underlight"))
+        .args(["bench", "--config", "tiny", "--frames", "4", "--warmup", "1", "--json"])
+        .arg(&json)
+        .arg("--csv")
+        .arg(&csv)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let report: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert!(!report["device"].as_str().unwrap().is_empty(), "{report}");
+    let r = &report["results"][0];
+    assert_eq!(r["frames"], 4);
+    let passes = r["passes"].as_array().unwrap();
+    let names: Vec<&str> = passes.iter().map(|p| p["pass"].as_str().unwrap()).collect();
+    assert_eq!(names, ["shadow", "scene", "caustics", "godrays", "filter", "compose"]);
+    let mut largest: f64 = 0.0;
+    for p in passes {
+        let (lo, mid, hi) = (p["p5_ms"].as_f64().unwrap(), p["median_ms"].as_f64().unwrap(), p["p95_ms"].as_f64().unwrap());
+        assert!(lo > 0.0 && lo <= mid && mid <= hi, "{p}");
+        largest = largest.max(mid);
+    }
+    assert!(r["total"]["median_ms"].as_f64().unwrap() >= largest);
+    let rows = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(rows.lines().count(), 1 + passes.len() + 1, "{rows}");
+    assert!(rows.lines().nth(1).unwrap().contains("llvmpipe") || !report["device"].as_str().unwrap().contains("llvmpipe"));
+    std::fs::remove_dir_all(&dir).ok();
+}
