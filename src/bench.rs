@@ -254,6 +254,12 @@ mod tests {
     }
 
     #[test]
+    fn fit_recovers_a_line() {
+        let (slope, intercept) = fit(&[(1.0, 5.0), (2.0, 7.0), (4.0, 11.0)]);
+        assert!((slope - 2.0).abs() < 1e-12 && (intercept - 3.0).abs() < 1e-12);
+    }
+
+    #[test]
     fn paper_configs_carry_the_papers_settings() {
         let c = configs();
         let high = c.iter().find(|c| c.name == "paper-1440-high").unwrap();
@@ -262,4 +268,108 @@ mod tests {
         assert_eq!(((1440.0 * 0.32f32).round(), (850.0 * 0.32f32).round()), (461.0, 272.0));
         assert!(!c.iter().find(|c| c.name == "paper-1m-photons").unwrap().filter);
     }
+}
+
+/// One scaling series: a parameter varied over values with everything else at paper-800,
+/// and the GPU time of the pass it drives (and the total) at each value.
+#[derive(Clone, Debug, Serialize)]
+pub struct Series {
+    /// What was varied and what it is measured in ("caustic photons (millions)", …).
+    pub parameter: String,
+    pub pass: String,
+    pub points: Vec<(f64, f64)>,
+    /// Least-squares line through the points: ms = intercept + slope · x.
+    pub slope_ms: f64,
+    pub intercept_ms: f64,
+}
+
+fn fit(points: &[(f64, f64)]) -> (f64, f64) {
+    let n = points.len() as f64;
+    let (sx, sy) = points.iter().fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y));
+    let (mx, my) = (sx / n, sy / n);
+    let sxx: f64 = points.iter().map(|(x, _)| (x - mx).powi(2)).sum();
+    let sxy: f64 = points.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
+    let slope = if sxx > 0.0 { sxy / sxx } else { 0.0 };
+    (slope, my - slope * mx)
+}
+
+/// Cost against the work: caustic photons, godray photons, caustic target pixels, point size
+/// and line width, each varied alone from paper-800 (or from `base`, scaled down for tests).
+pub fn scaling(device: &Arc<Device>, scene: &Scene, base: &BenchConfig, frames: u32, warmup: u32) -> Result<Vec<Series>> {
+    type Vary = fn(&mut BenchConfig, f64);
+    let sweeps: [(&str, &str, Vec<f64>, Vary, fn(&BenchConfig) -> f64); 5] = [
+        (
+            "caustic photons (millions)",
+            "caustics",
+            vec![0.5, 1.0, 1.5, 2.0],
+            |c, f| c.caustic_grid = (c.caustic_grid as f64 * f).round() as u32,
+            |c| (c.caustic_grid as f64 * c.subdivision as f64).powi(2) / 1e6,
+        ),
+        (
+            "godray photons (millions)",
+            "godrays",
+            vec![0.5, 1.0, 1.5, 2.0],
+            |c, f| c.godray_grid = (c.godray_grid as f64 * f).round() as u32,
+            |c| (c.godray_grid as f64 * c.subdivision as f64).powi(2) / 1e6,
+        ),
+        (
+            "caustic target (megapixels)",
+            "caustics",
+            vec![0.5, 1.0, 1.5, 2.0],
+            |c, f| c.caustic_target_scale = Some(c.caustic_target_scale.unwrap_or(0.64) * f as f32),
+            |c| {
+                let s = c.caustic_target_scale.unwrap_or(0.64) as f64;
+                (c.width as f64 * s).round() * (c.height as f64 * s).round() / 1e6
+            },
+        ),
+        (
+            "largest point size (px)",
+            "caustics",
+            vec![0.5, 1.0, 2.0, 3.0],
+            |c, f| {
+                let (lo, hi) = c.point_size.unwrap_or((5.0, 20.0));
+                c.point_size = Some((lo * f as f32, hi * f as f32));
+            },
+            |c| c.point_size.unwrap_or((5.0, 20.0)).1 as f64,
+        ),
+        (
+            "godray line width (px)",
+            "godrays",
+            vec![1.0, 2.0, 4.0, 8.0],
+            |c, f| c.line_width = Some(f as f32),
+            |c| c.line_width.unwrap_or(1.0) as f64,
+        ),
+    ];
+    let mut out = Vec::new();
+    for (parameter, pass, factors, vary, measure) in sweeps {
+        let mut points = Vec::new();
+        for f in factors {
+            let mut c = base.clone();
+            vary(&mut c, f);
+            let r = run_config(device, scene, &c, frames, warmup)?;
+            let ms = r.passes.iter().find(|p| p.pass == pass).map(|p| p.median_ms).unwrap_or(0.0);
+            points.push((measure(&c), ms));
+        }
+        let (slope_ms, intercept_ms) = fit(&points);
+        out.push(Series { parameter: parameter.into(), pass: pass.into(), points, slope_ms, intercept_ms });
+    }
+    Ok(out)
+}
+
+/// The scaling table: each series' points and its fitted cost per unit.
+pub fn scaling_table(series: &[Series]) -> String {
+    let mut out = String::new();
+    for s in series {
+        let pts: Vec<String> = s.points.iter().map(|(x, y)| format!("{x:.3}→{y:.2}")).collect();
+        let _ = writeln!(
+            out,
+            "{:<30} {:<9} {:>9.2} ms per unit (+{:.2} ms)   [{}]",
+            s.parameter,
+            s.pass,
+            s.slope_ms,
+            s.intercept_ms,
+            pts.join(", ")
+        );
+    }
+    out
 }

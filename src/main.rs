@@ -84,6 +84,10 @@ struct BenchArgs {
     /// Frames rendered first and discarded (pipeline and cache warm-up).
     #[arg(long, default_value_t = 5)]
     warmup: u32,
+    /// Also measure how each photon pass's cost grows with photons, target size, point size
+    /// and line width (from the first configuration), and fit the cost per unit.
+    #[arg(long)]
+    scaling: bool,
     /// Also write the results as JSON / CSV.
     #[arg(long)]
     json: Option<PathBuf>,
@@ -334,8 +338,17 @@ fn bench(cli: &Cli, args: &BenchArgs) -> Result<i32> {
         report.results.push(bench::run_config(&ctx.device, &scene, c, args.frames, args.warmup)?);
     }
     print!("{}", report.table());
+    let series = if args.scaling {
+        eprintln!("scaling from {}…", chosen[0].name);
+        let s = bench::scaling(&ctx.device, &scene, &chosen[0], args.frames, args.warmup)?;
+        print!("\nscaling (from {}):\n{}", chosen[0].name, bench::scaling_table(&s));
+        s
+    } else {
+        Vec::new()
+    };
     if let Some(p) = &args.json {
-        std::fs::write(p, serde_json::to_string_pretty(&report)?).with_context(|| format!("writing {}", p.display()))?;
+        let json = serde_json::json!({ "report": report, "scaling": series });
+        std::fs::write(p, serde_json::to_string_pretty(&json)?).with_context(|| format!("writing {}", p.display()))?;
         println!("wrote {}", p.display());
     }
     if let Some(p) = &args.csv {

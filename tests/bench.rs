@@ -9,14 +9,15 @@ fn bench_smoke_reports_every_pass() {
     std::fs::create_dir_all(&dir).unwrap();
     let (json, csv) = (dir.join("b.json"), dir.join("b.csv"));
     let out = Command::new(env!("CARGO_BIN_EXE_underlight"))
-        .args(["bench", "--config", "tiny", "--frames", "4", "--warmup", "1", "--json"])
+        .args(["bench", "--config", "tiny", "--frames", "4", "--warmup", "1", "--scaling", "--json"])
         .arg(&json)
         .arg("--csv")
         .arg(&csv)
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let report: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let report = &doc["report"];
     assert!(!report["device"].as_str().unwrap().is_empty(), "{report}");
     let r = &report["results"][0];
     assert_eq!(r["frames"], 4);
@@ -30,6 +31,18 @@ fn bench_smoke_reports_every_pass() {
         largest = largest.max(mid);
     }
     assert!(r["total"]["median_ms"].as_f64().unwrap() >= largest);
+    // Scaling: five series of four points, each with a finite fitted slope, and the photon
+    // series really varies the photon count (grid ×0.5 → ×2 is ×16 photons). No timing is
+    // asserted: timings are figures to read, not pass/fail thresholds.
+    let scaling = doc["scaling"].as_array().unwrap();
+    assert_eq!(scaling.len(), 5);
+    for s in scaling {
+        assert_eq!(s["points"].as_array().unwrap().len(), 4, "{s}");
+        assert!(s["slope_ms"].as_f64().unwrap().is_finite());
+    }
+    let photons = scaling[0]["points"].as_array().unwrap();
+    let (first, last) = (photons[0][0].as_f64().unwrap(), photons[3][0].as_f64().unwrap());
+    assert!((last / first - 16.0).abs() < 0.5, "photon counts {first} → {last} (grid ×0.5 → ×2)");
     let rows = std::fs::read_to_string(&csv).unwrap();
     assert_eq!(rows.lines().count(), 1 + passes.len() + 1, "{rows}");
     assert!(rows.lines().nth(1).unwrap().contains("llvmpipe") || !report["device"].as_str().unwrap().contains("llvmpipe"));
