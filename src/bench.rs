@@ -3,7 +3,9 @@
 //! median, 5th and 95th percentile over the measured frames are reported, beside the frame
 //! rates the paper measured on its GTX 260 (2009).
 
+use crate::frame::FrameOptions;
 use crate::headless::SceneRenderer;
+use crate::passes::caustics::PhotonPath;
 use crate::passes::PassId;
 use crate::scene::Scene;
 use crate::vk::device::Device;
@@ -127,6 +129,7 @@ pub struct PassStats {
 #[derive(Clone, Debug, Serialize)]
 pub struct BenchResult {
     pub config: BenchConfig,
+    pub photon_path: PhotonPath,
     pub scene: String,
     pub frames: usize,
     /// Photons cast per frame: caustics and godrays (grid × subdivision, squared).
@@ -155,13 +158,21 @@ fn stats(name: &str, mut v: Vec<f64>) -> PassStats {
 }
 
 /// Renders `warmup + frames` frames of `config` on `scene` and summarises the measured ones.
-pub fn run_config(device: &Arc<Device>, scene: &Scene, config: &BenchConfig, frames: u32, warmup: u32) -> Result<BenchResult> {
+pub fn run_config(
+    device: &Arc<Device>,
+    scene: &Scene,
+    config: &BenchConfig,
+    frames: u32,
+    warmup: u32,
+    path: PhotonPath,
+) -> Result<BenchResult> {
     if frames == 0 {
         bail!("--frames must be at least 1");
     }
     let s = config.apply(scene);
     let extent = vk::Extent2D { width: config.width, height: config.height };
-    let mut renderer = SceneRenderer::new(device, &s, extent)?;
+    let options = FrameOptions { photon_path: path, ..Default::default() };
+    let mut renderer = SceneRenderer::with_options(device, &s, extent, options)?;
     let (timings, _) = renderer.render(warmup + frames, 0.0, 1.0 / 60.0, false)?;
     let measured: Vec<&PassTimings> = timings.iter().skip(warmup as usize).collect();
     let mut passes = Vec::new();
@@ -175,6 +186,7 @@ pub fn run_config(device: &Arc<Device>, scene: &Scene, config: &BenchConfig, fra
     let n = |grid: u32| (grid as u64 * config.subdivision as u64).pow(2);
     Ok(BenchResult {
         config: config.clone(),
+        photon_path: path,
         scene: s.name.clone(),
         frames: measured.len(),
         caustic_photons: if renderer.frame.plan.runs(PassId::Caustics) { n(config.caustic_grid) } else { 0 },
@@ -191,13 +203,17 @@ impl BenchReport {
         let mut out = String::new();
         let _ = writeln!(out, "device: {} ({})", self.device, self.driver);
         let ids = ["shadow", "scene", "caustics", "godrays", "filter", "compose"];
-        let _ = write!(out, "{:<18} {:>10}", "config", "photons");
+        let _ = write!(out, "{:<26} {:>10}", "config", "photons");
         for id in ids {
             let _ = write!(out, " {:>9}", id);
         }
         let _ = writeln!(out, " {:>26} {:>9} {:>10}", "total ms median [p5–p95]", "GPU fps", "paper fps");
         for r in &self.results {
-            let _ = write!(out, "{:<18} {:>10}", r.config.name, r.caustic_photons + r.godray_photons);
+            let name = match r.photon_path {
+                PhotonPath::GeometryShader => r.config.name.to_string(),
+                PhotonPath::VertexOnly => format!("{} (vertex)", r.config.name),
+            };
+            let _ = write!(out, "{:<26} {:>10}", name, r.caustic_photons + r.godray_photons);
             for id in ids {
                 match r.passes.iter().find(|p| p.pass == id) {
                     Some(p) => {
@@ -217,15 +233,16 @@ impl BenchReport {
 
     /// One CSV row per configuration and pass (the total as pass "total").
     pub fn csv(&self) -> String {
-        let mut out = String::from("device,driver,config,scene,width,height,caustic_photons,godray_photons,frames,pass,median_ms,p5_ms,p95_ms\n");
+        let mut out = String::from("device,driver,config,photon_path,scene,width,height,caustic_photons,godray_photons,frames,pass,median_ms,p5_ms,p95_ms\n");
         for r in &self.results {
             for p in r.passes.iter().chain(std::iter::once(&r.total)) {
                 let _ = writeln!(
                     out,
-                    "\"{}\",\"{}\",{},{},{},{},{},{},{},{},{:.6},{:.6},{:.6}",
+                    "\"{}\",\"{}\",{},{:?},{},{},{},{},{},{},{},{:.6},{:.6},{:.6}",
                     self.device,
                     self.driver,
                     r.config.name,
+                    r.photon_path,
                     r.scene,
                     r.config.width,
                     r.config.height,
@@ -346,7 +363,7 @@ pub fn scaling(device: &Arc<Device>, scene: &Scene, base: &BenchConfig, frames: 
         for f in factors {
             let mut c = base.clone();
             vary(&mut c, f);
-            let r = run_config(device, scene, &c, frames, warmup)?;
+            let r = run_config(device, scene, &c, frames, warmup, PhotonPath::GeometryShader)?;
             let ms = r.passes.iter().find(|p| p.pass == pass).map(|p| p.median_ms).unwrap_or(0.0);
             points.push((measure(&c), ms));
         }

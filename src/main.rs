@@ -84,6 +84,10 @@ struct BenchArgs {
     /// Frames rendered first and discarded (pipeline and cache warm-up).
     #[arg(long, default_value_t = 5)]
     warmup: u32,
+    /// Also run each configuration with the vertex-only caustic photon path (no geometry
+    /// shader), for the cost of the method's amplification stage.
+    #[arg(long)]
+    compare_paths: bool,
     /// Also measure how each photon pass's cost grows with photons, target size, point size
     /// and line width (from the first configuration), and fit the cost per unit.
     #[arg(long)]
@@ -335,7 +339,11 @@ fn bench(cli: &Cli, args: &BenchArgs) -> Result<i32> {
     let mut report = bench::BenchReport { device: info.name.clone(), driver: format!("{} {}", info.driver_name, info.driver_info), results: Vec::new() };
     for c in &chosen {
         eprintln!("{}: {}×{}, {} warm-up + {} frames…", c.name, c.width, c.height, args.warmup, args.frames);
-        report.results.push(bench::run_config(&ctx.device, &scene, c, args.frames, args.warmup)?);
+        use underlight::passes::caustics::PhotonPath;
+        report.results.push(bench::run_config(&ctx.device, &scene, c, args.frames, args.warmup, PhotonPath::GeometryShader)?);
+        if args.compare_paths {
+            report.results.push(bench::run_config(&ctx.device, &scene, c, args.frames, args.warmup, PhotonPath::VertexOnly)?);
+        }
     }
     print!("{}", report.table());
     let series = if args.scaling {

@@ -244,7 +244,7 @@ fn compare_photons_with_twin(model: WaterModel) {
         panic!("{} cannot record photons (no vertexPipelineStoresAndAtomics)", ctx.device.info.name);
     }
     let out = vk::Extent2D { width: scene.output[0], height: scene.output[1] };
-    let mut renderer = SceneRenderer::with_options(&ctx.device, &scene, out, FrameOptions { record_photons: true }).unwrap();
+    let mut renderer = SceneRenderer::with_options(&ctx.device, &scene, out, FrameOptions { record_photons: true, ..Default::default() }).unwrap();
     let extents = renderer.frame.extents;
     let (_, images) = renderer.render(1, time, 0.0, true).unwrap();
     drop(renderer);
@@ -299,4 +299,36 @@ fn compare_photons_with_twin(model: WaterModel) {
     // whose estimate lands on a texel edge may pick the neighbouring texel; nothing more.
     assert!(disagree * 200 < total, "{disagree} of {total} photons land on one side only");
     assert!(far * 200 < both, "{far} of {both} hits differ by more than 2 light-map texels");
+}
+
+#[test]
+fn vertex_only_photon_path_draws_the_same_caustics() {
+    use underlight::frame::FrameOptions;
+    use underlight::passes::caustics::PhotonPath;
+    // Waves, noise and a tilted sun: drops, refraction and splat sizes all vary.
+    let mut scene = pool(0.04);
+    scene.water.noise_amplitude = 0.02;
+    scene.light.direction = glam::Vec3::new(0.3, -1.0, 0.2).normalize();
+    let ctx = validated_context();
+    let out = vk::Extent2D { width: scene.output[0], height: scene.output[1] };
+    let mut buffers = Vec::new();
+    for path in [PhotonPath::GeometryShader, PhotonPath::VertexOnly] {
+        let options = FrameOptions { photon_path: path, ..Default::default() };
+        let mut r = SceneRenderer::with_options(&ctx.device, &scene, out, options).unwrap();
+        let (_, images) = r.render(1, 1.3, 0.0, true).unwrap();
+        buffers.push(images.unwrap().caustics.unwrap());
+    }
+    assert_clean_shutdown(ctx);
+    let (gs, vs) = (&buffers[0], &buffers[1]);
+    let (mut diff, mut sum) = (0.0f64, 0.0f64);
+    for (a, b) in gs.pixels.iter().zip(&vs.pixels) {
+        diff += (a[0] as f64 - b[0] as f64).abs();
+        sum += a[0] as f64;
+    }
+    let photons = |img: &HdrImage| img.channel_sums()[3];
+    eprintln!("GS vs vertex-only: relative L1 difference {:e}; splat pixels {} vs {}", diff / sum, photons(gs), photons(vs));
+    assert!(sum > 0.0);
+    // Same photons, same splats, same order of blending: identical up to float rounding.
+    assert_eq!(photons(gs), photons(vs), "the paths splat different numbers of pixels");
+    assert!(diff / sum < 1e-3, "relative L1 difference {}", diff / sum);
 }

@@ -160,6 +160,8 @@ pub struct FrameOptions {
     /// The caustics pass writes every photon's cast to a host-visible buffer (needs
     /// vertexPipelineStoresAndAtomics).
     pub record_photons: bool,
+    /// How caustic photons are generated (the geometry shader, or one vertex per photon).
+    pub photon_path: crate::passes::caustics::PhotonPath,
 }
 
 /// Filter kernel radii, pixels of each buffer. The caustic radius is about half the paper's
@@ -229,7 +231,7 @@ impl Frame {
         let caustics = if plan.runs(PassId::Caustics) {
             let e = &scene.effects;
             let ext = vk::Extent2D { width: extents.caustic[0], height: extents.caustic[1] };
-            Some(CausticsPass::new(device, ext, e.caustic_grid, e.caustic_subdivision, options.record_photons)?)
+            Some(CausticsPass::new(device, ext, e.caustic_grid, e.caustic_subdivision, options.record_photons, options.photon_path)?)
         } else {
             None
         };

@@ -37,7 +37,18 @@ pub const DEBUG_BINDINGS: &[(u32, Binding)] = &[
     (b::PHOTON_DEBUG, Binding::Storage),
 ];
 
+/// How photons are generated from the coarse grid.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub enum PhotonPath {
+    /// The method's: a geometry shader subdivides each coarse cell into SUBDIVISION² photons.
+    #[default]
+    GeometryShader,
+    /// No amplification stage: one vertex per photon, drawn as points (for comparison).
+    VertexOnly,
+}
+
 pub struct CausticsPass {
+    pub path: PhotonPath,
     pub grid: u32,
     pub subdivision: u32,
     /// With photon recording on: two vec4 per photon, (hit, landed) and (surface, flux).
@@ -56,7 +67,14 @@ impl CausticsPass {
         grid: u32,
         subdivision: u32,
         record_photons: bool,
+        path: PhotonPath,
     ) -> Result<Self> {
+        if record_photons && path != PhotonPath::GeometryShader {
+            return Err(Error::InvalidParameter {
+                name: "record_photons",
+                message: "photon recording is a feature of the geometry-shader path".into(),
+            });
+        }
         if record_photons && !device.has_pipeline_stores() {
             return Err(Error::MissingFeatures {
                 device: device.info.name.clone(),
@@ -88,8 +106,15 @@ impl CausticsPass {
             device,
             &GraphicsPipelineDesc {
                 name: "caustics",
-                vertex: "photon_grid.vert",
-                geometry: Some(if record_photons { "caustics_debug.geom" } else { "caustics.geom" }),
+                vertex: match path {
+                    PhotonPath::GeometryShader => "photon_grid.vert",
+                    PhotonPath::VertexOnly => "caustics_vertex.vert",
+                },
+                geometry: match (path, record_photons) {
+                    (PhotonPath::VertexOnly, _) => None,
+                    (PhotonPath::GeometryShader, true) => Some("caustics_debug.geom"),
+                    (PhotonPath::GeometryShader, false) => Some("caustics.geom"),
+                },
                 fragment: "caustics.frag",
                 topology: vk::PrimitiveTopology::POINT_LIST,
                 blend: Blend::Additive,
@@ -105,7 +130,7 @@ impl CausticsPass {
                 vertex_attributes: &[],
             },
         )?;
-        Ok(Self { grid, subdivision, photon_records, pipeline, target, sets, device: device.clone() })
+        Ok(Self { path, grid, subdivision, photon_records, pipeline, target, sets, device: device.clone() })
     }
 
     pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize) {
@@ -113,7 +138,11 @@ impl CausticsPass {
         self.target.render_pass.begin(cmd);
         self.pipeline.bind(cmd, Some(self.sets.sets[frame_index]));
         self.pipeline.push(cmd, &self.grid.to_ne_bytes());
-        unsafe { dev.raw.cmd_draw(cmd, self.grid * self.grid, 1, 0, 0) };
+        let vertices = match self.path {
+            PhotonPath::GeometryShader => self.grid * self.grid,
+            PhotonPath::VertexOnly => (self.grid * self.subdivision).pow(2),
+        };
+        unsafe { dev.raw.cmd_draw(cmd, vertices, 1, 0, 0) };
         self.target.render_pass.end(cmd);
         if self.photon_records.is_some() {
             // The records are read by the host once the frame's fence signals.

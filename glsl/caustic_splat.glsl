@@ -1,0 +1,49 @@
+// A caustic photon's splat (method step 5), shared by the geometry-shader photon path
+// (caustics.glsl) and the vertex-only one (caustics_vertex.vert), so both draw the same points.
+#ifndef UNDERLIGHT_CAUSTIC_SPLAT_GLSL
+#define UNDERLIGHT_CAUSTIC_SPLAT_GLSL
+#include "photon.glsl"
+
+layout(set = 0, binding = BINDING_LIGHT_NORMAL) uniform sampler2D light_normal;
+
+struct CausticSplat {
+    vec4 clip;        // camera clip position of the hit
+    float size;       // point size, whole pixels
+    vec4 irradiance;  // rgb: irradiance / E_surface per covered pixel; a = 1 per photon
+};
+
+// The point a landed photon draws; false when it cannot touch the target.
+bool caustic_splat(Photon ph, out CausticSplat s) {
+    s.clip = frame.camera_view_proj * vec4(ph.hit, 1.0);
+    s.size = 1.0;
+    s.irradiance = vec4(0.0);
+    if (s.clip.w <= frame.camera_params.x) return false; // behind or at the camera
+    vec3 to_hit = ph.hit - frame.camera_pos.xyz;
+    float d_view = length(to_hit);
+    float size = regulated_point_size(d_view, frame.camera_params.x, frame.camera_params.y,
+                                      frame.effect0.x, frame.effect0.y);
+    // Whole pixels: a square point of integer size covers exactly size² pixel centres
+    // wherever it lands, so each photon deposits exactly its flux (a fractional size covers
+    // floor² or ceil² pixels depending on its sub-pixel position).
+    size = clamp(round(size), 1.0, floor(frame.effect2.x));
+    // Cull splats that cannot touch the target: the view volume widened by the point's
+    // radius. (Clipping a point outside the viewport is not enough: some rasterisers clamp
+    // far-off points to the border instead of discarding them.)
+    vec2 reach = s.clip.w * (1.0 + size / frame.effect2.zw);
+    if (any(greaterThan(abs(s.clip.xy), reach)) || s.clip.z < 0.0 || s.clip.z > s.clip.w) return false;
+    ivec2 texel;
+    vec3 n = vec3(0.0, 1.0, 0.0);
+    if (light_texel(ph.hit, texel)) n = normalize(texelFetch(light_normal, texel, 0).xyz + 1e-6);
+    float cos_view = abs(dot(n, to_hit / d_view));
+    float cos_axis = s.clip.w / d_view;
+    // The splat spreads the photon's flux over size² pixels, each covering pixel_world_area
+    // of the receiver: the density estimate of irradiance.
+    float area = size * size * pixel_world_area(d_view, cos_view, cos_axis, frame.effect2.w);
+    vec3 flux = ph.flux * exp(-frame.gamma.rgb * ph.travelled);
+    s.size = size;
+    // Stored relative to the surface irradiance so half floats keep their precision whatever
+    // the light's strength (compose multiplies it back).
+    s.irradiance = vec4(flux / (area * frame.light_flux.x), 1.0);
+    return true;
+}
+#endif

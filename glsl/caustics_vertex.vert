@@ -1,0 +1,35 @@
+#version 450
+// The vertex-only caustic photon path: one vertex per photon (grid × subdivision, squared),
+// no amplification stage; each vertex finds its photon from gl_VertexIndex and draws the
+// same splat as the geometry-shader path. Measured against it by `underlight bench`.
+#include "caustic_splat.glsl"
+
+layout(constant_id = 0) const uint SUBDIVISION = 2;
+layout(push_constant) uniform GridPush { uint grid; } pc;
+
+layout(location = 0) flat out vec4 g_irradiance;
+layout(location = 1) flat out float g_view_depth;
+
+void main() {
+    // The geometry shader's order: cell by cell, and within a cell row by row.
+    uint per_cell = SUBDIVISION * SUBDIVISION;
+    uint cell_index = uint(gl_VertexIndex) / per_cell;
+    uint k = uint(gl_VertexIndex) % per_cell;
+    uvec2 cell = uvec2(cell_index % pc.grid, cell_index / pc.grid);
+    uvec2 sub = uvec2(k % SUBDIVISION, k / SUBDIVISION);
+    vec2 uv = photon_grid_uv(cell, sub, SUBDIVISION, uvec2(pc.grid));
+    Photon ph;
+    CausticSplat splat;
+    if (cast_photon(uv, float(pc.grid * SUBDIVISION), ph) && caustic_splat(ph, splat)) {
+        gl_Position = splat.clip;
+        gl_PointSize = splat.size;
+        g_irradiance = splat.irradiance;
+        g_view_depth = splat.clip.w;
+    } else {
+        // Dropped: outside the clip volume's depth range, which clips a point exactly.
+        gl_Position = vec4(0.0, 0.0, -1.0, 1.0);
+        gl_PointSize = 1.0;
+        g_irradiance = vec4(0.0);
+        g_view_depth = 0.0;
+    }
+}
