@@ -102,32 +102,24 @@ impl CausticsPass {
             });
         }
         let target = ColorTarget::new(device, "caustics", extent, TARGET_FORMAT, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)?;
+        let vertex = match path {
+            PhotonPath::GeometryShader => "photon_grid.vert",
+            PhotonPath::VertexOnly => "caustics_vertex.vert",
+        };
         let pipeline = Pipeline::graphics(
             device,
             &GraphicsPipelineDesc {
-                name: "caustics",
-                vertex: match path {
-                    PhotonPath::GeometryShader => "photon_grid.vert",
-                    PhotonPath::VertexOnly => "caustics_vertex.vert",
-                },
                 geometry: match (path, record_photons) {
                     (PhotonPath::VertexOnly, _) => None,
                     (PhotonPath::GeometryShader, true) => Some("caustics_debug.geom"),
                     (PhotonPath::GeometryShader, false) => Some("caustics.geom"),
                 },
-                fragment: "caustics.frag",
                 topology: vk::PrimitiveTopology::POINT_LIST,
                 blend: Blend::Additive,
-                color_attachments: 1,
-                depth_test: false,
-                depth_write: false,
                 specialization: &[(0, subdivision)],
                 push_constant_bytes: 4,
                 set_layouts: &[sets.layout],
-                render_pass: target.render_pass.raw,
-                dynamic_line_width: false,
-                vertex_stride: 0,
-                vertex_attributes: &[],
+                ..GraphicsPipelineDesc::new("caustics", vertex, "caustics.frag", target.render_pass.raw)
             },
         )?;
         Ok(Self { path, grid, subdivision, photon_records, pipeline, target, sets, device: device.clone() })

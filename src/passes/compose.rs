@@ -7,7 +7,7 @@ use crate::frame::bindings as b;
 use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
-use crate::vk::pipeline::{Blend, GraphicsPipelineDesc, Pipeline};
+use crate::vk::pipeline::{GraphicsPipelineDesc, Pipeline};
 use crate::vk::render_pass::ColorTarget;
 use ash::vk;
 use std::sync::Arc;
@@ -54,22 +54,8 @@ impl ComposePass {
         let pipeline = Pipeline::graphics(
             device,
             &GraphicsPipelineDesc {
-                name: "compose",
-                vertex: "fullscreen.vert",
-                geometry: None,
-                fragment,
-                topology: vk::PrimitiveTopology::TRIANGLE_LIST,
-                blend: Blend::Opaque,
-                color_attachments: 1,
-                depth_test: false,
-                depth_write: false,
-                specialization: &[],
-                push_constant_bytes: 0,
                 set_layouts: &[sets.layout],
-                render_pass: output.render_pass.raw,
-                dynamic_line_width: false,
-                vertex_stride: 0,
-                vertex_attributes: &[],
+                ..GraphicsPipelineDesc::new("compose", "fullscreen.vert", fragment, output.render_pass.raw)
             },
         )?;
         Ok(Self { pipeline, output, sets, device: device.clone() })

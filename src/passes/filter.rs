@@ -9,7 +9,7 @@ use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
 use crate::vk::image::Image;
-use crate::vk::pipeline::{Blend, GraphicsPipelineDesc, Pipeline};
+use crate::vk::pipeline::{GraphicsPipelineDesc, Pipeline};
 use crate::vk::render_pass::ColorTarget;
 use ash::vk;
 use std::sync::Arc;
@@ -35,22 +35,10 @@ impl FilterPass {
         let pipeline = Pipeline::graphics(
             device,
             &GraphicsPipelineDesc {
-                name,
-                vertex: "fullscreen.vert",
-                geometry: None,
-                fragment: "filter.frag",
-                topology: vk::PrimitiveTopology::TRIANGLE_LIST,
-                blend: Blend::Opaque,
-                color_attachments: 1,
-                depth_test: false,
-                depth_write: false,
                 specialization: &[(0, TAPS)],
                 push_constant_bytes: 4,
                 set_layouts: &[sets.layout],
-                render_pass: output.render_pass.raw,
-                dynamic_line_width: false,
-                vertex_stride: 0,
-                vertex_attributes: &[],
+                ..GraphicsPipelineDesc::new(name, "fullscreen.vert", "filter.frag", output.render_pass.raw)
             },
         )?;
         Ok(Self { radius_px, pipeline, output, sets, device: device.clone() })

@@ -64,22 +64,14 @@ impl GodraysPass {
         let pipeline = Pipeline::graphics(
             device,
             &GraphicsPipelineDesc {
-                name: "godrays",
-                vertex: "photon_grid.vert",
                 geometry: Some("godrays.geom"),
-                fragment: "godrays.frag",
                 topology: vk::PrimitiveTopology::POINT_LIST,
                 blend: Blend::Additive,
-                color_attachments: 1,
-                depth_test: false,
-                depth_write: false,
                 specialization: &[(0, subdivision)],
                 push_constant_bytes: 4,
                 set_layouts: &[sets.layout],
-                render_pass: target.render_pass.raw,
                 dynamic_line_width: true,
-                vertex_stride: 0,
-                vertex_attributes: &[],
+                ..GraphicsPipelineDesc::new("godrays", "photon_grid.vert", "godrays.frag", target.render_pass.raw)
             },
         )?;
         Ok(Self { grid, line_width, pipeline, target, sets, device: device.clone() })

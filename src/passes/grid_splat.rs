@@ -109,22 +109,12 @@ impl GridSplatPass {
         let pipeline = Pipeline::graphics(
             device,
             &GraphicsPipelineDesc {
-                name: "grid_splat",
-                vertex: "grid_splat.vert",
                 geometry: Some("grid_splat.geom"),
-                fragment: "grid_splat.frag",
                 topology: vk::PrimitiveTopology::POINT_LIST,
                 blend: Blend::Additive,
-                color_attachments: 1,
-                depth_test: false,
-                depth_write: false,
                 specialization: &[(0, settings.subdivision)],
                 push_constant_bytes: std::mem::size_of::<GridSplatPush>() as u32,
-                set_layouts: &[],
-                render_pass: target.render_pass.raw,
-                dynamic_line_width: false,
-                vertex_stride: 0,
-                vertex_attributes: &[],
+                ..GraphicsPipelineDesc::new("grid_splat", "grid_splat.vert", "grid_splat.frag", target.render_pass.raw)
             },
         )?;
         Ok(Self { settings, pipeline, target, device: device.clone() })

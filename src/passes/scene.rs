@@ -10,7 +10,7 @@ use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
 use crate::vk::image::Image;
-use crate::vk::pipeline::{Blend, GraphicsPipelineDesc, Pipeline};
+use crate::vk::pipeline::{GraphicsPipelineDesc, Pipeline};
 use crate::vk::render_pass::{Attachment, Load, RenderPass};
 use ash::vk;
 use std::sync::Arc;
@@ -57,36 +57,29 @@ impl ScenePass {
             ],
             Some(&Attachment { image: &depth, load: Load::Clear([1.0; 4]), final_layout: read }),
         )?;
-        let common = |name, vertex, fragment, stride, attributes, spec: &'static [(u32, u32)]| GraphicsPipelineDesc {
-            name,
-            vertex,
-            geometry: None,
-            fragment,
-            topology: vk::PrimitiveTopology::TRIANGLE_LIST,
-            blend: Blend::Opaque,
+        // Both draw into colour + albedo×transmittance with depth test and write.
+        let layouts = [sets.layout];
+        let opaque_with_depth = |name, vertex, fragment| GraphicsPipelineDesc {
             color_attachments: 2,
             depth_test: true,
             depth_write: true,
-            specialization: spec,
-            push_constant_bytes: 0,
-            set_layouts: &[],
-            render_pass: render_pass.raw,
-            dynamic_line_width: false,
-            vertex_stride: stride,
-            vertex_attributes: attributes,
+            set_layouts: &layouts,
+            ..GraphicsPipelineDesc::new(name, vertex, fragment, render_pass.raw)
         };
-        let layouts = [sets.layout];
         let mesh_pipeline = Pipeline::graphics(
             device,
             &GraphicsPipelineDesc {
-                set_layouts: &layouts,
-                ..common("scene meshes", "mesh.vert", "scene.frag", std::mem::size_of::<MeshVertex>() as u32, &MESH_ATTRIBUTES, &[])
+                vertex_stride: std::mem::size_of::<MeshVertex>() as u32,
+                vertex_attributes: &MESH_ATTRIBUTES,
+                ..opaque_with_depth("scene meshes", "mesh.vert", "scene.frag")
             },
         )?;
-        const WATER_SPEC: &[(u32, u32)] = &[(0, WATER_GRID_CELLS)];
         let water_pipeline = Pipeline::graphics(
             device,
-            &GraphicsPipelineDesc { set_layouts: &layouts, ..common("water surface", "water.vert", "water.frag", 0, &[], WATER_SPEC) },
+            &GraphicsPipelineDesc {
+                specialization: &[(0, WATER_GRID_CELLS)],
+                ..opaque_with_depth("water surface", "water.vert", "water.frag")
+            },
         )?;
         Ok(Self { mesh_pipeline, water_pipeline, render_pass, color, albedo_transmittance, depth, sets, device: device.clone() })
     }

@@ -10,7 +10,7 @@ use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
 use crate::vk::image::Image;
-use crate::vk::pipeline::{Blend, GraphicsPipelineDesc, Pipeline};
+use crate::vk::pipeline::{GraphicsPipelineDesc, Pipeline};
 use crate::vk::render_pass::{Attachment, Load, RenderPass};
 use ash::vk;
 use std::sync::Arc;
@@ -55,22 +55,13 @@ impl ShadowPass {
         let pipeline = Pipeline::graphics(
             device,
             &GraphicsPipelineDesc {
-                name: "shadow",
-                vertex: "shadow.vert",
-                geometry: None,
-                fragment: "shadow.frag",
-                topology: vk::PrimitiveTopology::TRIANGLE_LIST,
-                blend: Blend::Opaque,
                 color_attachments: 2,
                 depth_test: true,
                 depth_write: true,
-                specialization: &[],
-                push_constant_bytes: 0,
                 set_layouts: &[sets.layout],
-                render_pass: render_pass.raw,
-                dynamic_line_width: false,
                 vertex_stride: std::mem::size_of::<crate::frame::mesh::MeshVertex>() as u32,
                 vertex_attributes: &MESH_ATTRIBUTES[..2],
+                ..GraphicsPipelineDesc::new("shadow", "shadow.vert", "shadow.frag", render_pass.raw)
             },
         )?;
         Ok(Self { pipeline, render_pass, position, normal, _depth: depth, sets, device: device.clone() })

@@ -34,6 +34,9 @@ use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Window, WindowId};
 
+/// Frames whose timings the title's medians are taken over.
+const TIMING_WINDOW: usize = 60;
+
 pub struct ViewerOptions {
     pub scene: Scene,
     pub context: ContextDesc,
@@ -237,7 +240,7 @@ impl Live {
             frames_left_in_step: 0,
             frames_rendered: 0,
             pending_screenshot: None,
-            timings: VecDeque::with_capacity(64),
+            timings: VecDeque::with_capacity(TIMING_WINDOW),
             last_report: Instant::now(),
             frames_since_report: 0,
         };
@@ -408,8 +411,8 @@ impl Live {
         let fast = self.keys_down.iter().any(|k| matches!(k, KeyCode::ShiftLeft | KeyCode::ShiftRight));
         let speed = if fast { 4.0 } else { 1.0 } * dt;
         let turn = 1.2 * dt;
-        for k in self.keys_down.clone() {
-            match k {
+        for i in 0..self.keys_down.len() {
+            match self.keys_down[i] {
                 KeyCode::KeyW => self.camera.translate(0.0, 0.0, speed),
                 KeyCode::KeyS => self.camera.translate(0.0, 0.0, -speed),
                 KeyCode::KeyD => self.camera.translate(speed, 0.0, 0.0),
@@ -537,7 +540,16 @@ impl Live {
             .semaphore(swapchain.rendered[image_index as usize])
             .stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)];
         self.ring.submit(&waits, &signals)?;
-        let fresh = self.ring.take_fresh_timings().map(|(_, t)| t.clone());
+        // Keep the last 60 frames' timings, reusing the oldest entry's storage once full.
+        if let Some((_, t)) = self.ring.take_fresh_timings() {
+            let mut entry = if self.timings.len() == TIMING_WINDOW {
+                self.timings.pop_front().unwrap_or_default()
+            } else {
+                PassTimings::default()
+            };
+            entry.passes.clone_from(&t.passes);
+            self.timings.push_back(entry);
+        }
         let ok = swapchain.present(image_index)?;
         self.frames_rendered += 1;
         self.frames_left_in_step = self.frames_left_in_step.saturating_sub(1);
@@ -545,12 +557,6 @@ impl Live {
             // A screenshot is an explicit request: waiting for its frame is what it asks for.
             self.ring.finish(|_, _| {})?;
             self.save_screenshot(&path)?;
-        }
-        if let Some(t) = fresh {
-            if self.timings.len() == 60 {
-                self.timings.pop_front();
-            }
-            self.timings.push_back(t);
         }
         self.report_timings();
         if !ok {
@@ -584,6 +590,7 @@ impl Live {
         if elapsed < Duration::from_millis(500) || self.timings.is_empty() {
             return;
         }
+        // Twice a second, not per frame: the copy for the median is fine here.
         let frames: Vec<PassTimings> = self.timings.iter().cloned().collect();
         let median = median_timings(&frames);
         let fps = self.frames_since_report as f64 / elapsed.as_secs_f64();

@@ -43,6 +43,32 @@ pub struct GraphicsPipelineDesc<'a> {
     pub vertex_attributes: &'a [(u32, vk::Format, u32)],
 }
 
+impl<'a> GraphicsPipelineDesc<'a> {
+    /// The common case, which a pass's description changes with `..` where it differs:
+    /// triangles, opaque into one colour attachment, no depth, no geometry shader, no
+    /// specialization, push constants, descriptor sets or vertex buffers.
+    pub fn new(name: &'a str, vertex: &'a str, fragment: &'a str, render_pass: vk::RenderPass) -> Self {
+        Self {
+            name,
+            vertex,
+            geometry: None,
+            fragment,
+            topology: vk::PrimitiveTopology::TRIANGLE_LIST,
+            blend: Blend::Opaque,
+            color_attachments: 1,
+            depth_test: false,
+            depth_write: false,
+            specialization: &[],
+            push_constant_bytes: 0,
+            set_layouts: &[],
+            render_pass,
+            dynamic_line_width: false,
+            vertex_stride: 0,
+            vertex_attributes: &[],
+        }
+    }
+}
+
 pub struct Pipeline {
     pub raw: vk::Pipeline,
     pub layout: vk::PipelineLayout,
