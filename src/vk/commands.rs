@@ -212,9 +212,6 @@ impl FrameRing {
         self.last_timed_frame.map(|f| (f, &self.last_timings))
     }
 
-    pub fn frames_begun(&self) -> u64 {
-        self.frames_begun
-    }
 }
 
 impl Drop for FrameRing {

@@ -80,9 +80,6 @@ impl ValidationLog {
         std::mem::take(&mut self.state.lock().unwrap_or_else(|p| p.into_inner()).leaks)
     }
 
-    pub fn count(&self) -> usize {
-        self.state.lock().unwrap_or_else(|p| p.into_inner()).messages.len()
-    }
 
     fn record(&self, severity: Severity, id: String, label: Option<String>, text: String) {
         let mut s = self.state.lock().unwrap_or_else(|p| p.into_inner());
