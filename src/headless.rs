@@ -53,25 +53,14 @@ impl GridSplatRenderer {
         dt: f32,
         read_back: bool,
     ) -> Result<(Vec<PassTimings>, Option<HdrImage>)> {
-        let mut timings = Vec::with_capacity(frames as usize);
-        for f in 0..frames {
-            let time = t0 + dt * f as f32;
-            let slot = self.ring.begin()?;
+        let (pass, readback) = (&self.pass, &self.readback);
+        let timings = run_frames(&mut self.ring, frames, t0, dt, |slot, time, last| {
             let cmd = slot.cmd;
-            let pass = &self.pass;
             slot.timer.pass(cmd, PassId::GridSplat, |cmd| pass.record(cmd, time));
-            if read_back && f + 1 == frames {
-                let readback = &self.readback;
+            if read_back && last {
                 slot.timer.pass(cmd, PassId::Readback, |cmd| readback.record(cmd, &pass.target.image));
             }
-            self.ring.submit(&[], &[])?;
-            // `begin` retired the frame recorded FRAMES_IN_FLIGHT ago; keep its timings.
-            if let Some((_, t)) = self.ring.take_fresh_timings() {
-                timings.push(t.clone());
-            }
-        }
-        // The last frames in flight finish here, oldest first.
-        self.ring.finish(|_, t| timings.push(t.clone()))?;
+        })?;
         let image = if read_back && frames > 0 { Some(self.readback.read()?) } else { None };
         Ok((timings, image))
     }
@@ -138,16 +127,14 @@ impl SceneRenderer {
     /// Renders `frames` frames at times `t0 + k·dt`; with `read_back`, the last frame's
     /// targets are copied to the host and returned.
     pub fn render(&mut self, frames: u32, t0: f32, dt: f32, read_back: bool) -> Result<(Vec<PassTimings>, Option<SceneImages>)> {
-        let mut timings = Vec::with_capacity(frames as usize);
-        for f in 0..frames {
-            let time = t0 + dt * f as f32;
-            let slot = self.ring.begin()?;
-            self.frame.record(slot, time);
-            if read_back && f + 1 == frames {
+        let (out, sc, at, fx) = (&self.output, &self.scene_color, &self.albedo_transmittance, &self.effects);
+        let lp = &self.light_positions;
+        let frame = &mut self.frame;
+        let timings = run_frames(&mut self.ring, frames, t0, dt, |slot, time, last| {
+            frame.record(slot, time);
+            if read_back && last {
                 let cmd = slot.cmd;
-                let frame = &self.frame;
-                let (out, sc, at, fx) = (&self.output, &self.scene_color, &self.albedo_transmittance, &self.effects);
-                let lp = &self.light_positions;
+                let frame = &*frame;
                 slot.timer.pass(cmd, PassId::Readback, |cmd| {
                     let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
                     out.record(cmd, &frame.compose.output.image);
@@ -163,12 +150,7 @@ impl SceneRenderer {
                     }
                 });
             }
-            self.ring.submit(&[], &[])?;
-            if let Some((_, t)) = self.ring.take_fresh_timings() {
-                timings.push(t.clone());
-            }
-        }
-        self.ring.finish(|_, t| timings.push(t.clone()))?;
+        })?;
         if !(read_back && frames > 0) {
             return Ok((timings, None));
         }
@@ -201,6 +183,32 @@ impl SceneRenderer {
         };
         Ok((timings, Some(images)))
     }
+}
+
+/// Renders `frames` frames (time `t0 + k·dt`) through the ring of frames in flight; `record`
+/// records one into its slot (the bool: it is the last). Returns each frame's per-pass GPU
+/// times, in frame order. Headless measurement collects every frame's table, so this
+/// allocates per frame; the viewer's loop does not.
+fn run_frames(
+    ring: &mut FrameRing,
+    frames: u32,
+    t0: f32,
+    dt: f32,
+    mut record: impl FnMut(&mut crate::vk::commands::FrameSlot, f32, bool),
+) -> Result<Vec<PassTimings>> {
+    let mut timings = Vec::with_capacity(frames as usize);
+    for f in 0..frames {
+        let slot = ring.begin()?;
+        record(slot, t0 + dt * f as f32, f + 1 == frames);
+        ring.submit(&[], &[])?;
+        // `begin` retired the frame recorded FRAMES_IN_FLIGHT ago; keep its timings.
+        if let Some((_, t)) = ring.take_fresh_timings() {
+            timings.push(t.clone());
+        }
+    }
+    // The last frames in flight finish here, oldest first.
+    ring.finish(|_, t| timings.push(t.clone()))?;
+    Ok(timings)
 }
 
 /// The frame's photon buffers in `SceneRenderer::effects` order.
