@@ -11,13 +11,7 @@ layout(location = 0) flat out vec4 g_irradiance;
 layout(location = 1) flat out float g_view_depth;
 
 void main() {
-    // The geometry shader's order: cell by cell, and within a cell row by row.
-    uint per_cell = SUBDIVISION * SUBDIVISION;
-    uint cell_index = uint(gl_VertexIndex) / per_cell;
-    uint k = uint(gl_VertexIndex) % per_cell;
-    uvec2 cell = uvec2(cell_index % pc.grid, cell_index / pc.grid);
-    uvec2 sub = uvec2(k % SUBDIVISION, k / SUBDIVISION);
-    vec2 uv = photon_grid_uv(cell, sub, SUBDIVISION, uvec2(pc.grid));
+    vec2 uv = photon_index_uv(uint(gl_VertexIndex), SUBDIVISION, pc.grid);
     Photon ph;
     CausticSplat splat;
     if (cast_photon(uv, float(pc.grid * SUBDIVISION), ph) && caustic_splat(ph, splat)) {

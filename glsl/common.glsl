@@ -17,6 +17,17 @@ vec2 photon_grid_uv(uvec2 cell, uvec2 sub, uint subdiv, uvec2 grid) {
     return (vec2(cell) + (vec2(sub) + 0.5) / float(subdiv)) / vec2(grid);
 }
 
+// The same position for photon number `index` when photons are numbered in the geometry
+// shader's emission order (cell by cell in rows, within a cell row by row): the paths without
+// an amplification stage (one vertex or one invocation per photon) use it, so they visit
+// the photons, and blend their splats, in the same order.
+vec2 photon_index_uv(uint index, uint subdiv, uint grid) {
+    uint per_cell = subdiv * subdiv;
+    uint cell = index / per_cell;
+    uint k = index % per_cell;
+    return photon_grid_uv(uvec2(cell % grid, cell / grid), uvec2(k % subdiv, k / subdiv), subdiv, uvec2(grid));
+}
+
 // Gradient of a small sum of travelling sine waves over [0,1]^2. The foundation's demo
 // displaces photons by it, which focuses them into caustic-like lines.
 vec2 demo_wave_gradient(vec2 uv, float t) {

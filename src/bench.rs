@@ -5,7 +5,8 @@
 
 use crate::frame::FrameOptions;
 use crate::headless::SceneRenderer;
-use crate::passes::caustics::PhotonPath;
+use crate::image_io::HdrImage;
+use crate::passes::PhotonPath;
 use crate::passes::PassId;
 use crate::scene::Scene;
 use crate::vk::device::Device;
@@ -138,6 +139,33 @@ pub struct BenchResult {
     pub passes: Vec<PassStats>,
     /// Of the per-frame sum of the passes.
     pub total: PassStats,
+    /// For a path other than the geometry shader's, how its unfiltered caustic and godray
+    /// buffers differ from the geometry shader's on the same frame (`--compare-paths`).
+    pub caustic_difference: Option<BufferDifference>,
+    pub godray_difference: Option<BufferDifference>,
+}
+
+/// How a photon buffer differs from a reference one.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct BufferDifference {
+    /// Σ|b − a| / Σ|a| over the RGB values of every pixel.
+    pub relative_l1: f64,
+    /// Σb / Σa: the energy one keeps against the other.
+    pub sum_ratio: f64,
+}
+
+/// The difference of `b` from reference `a` (same size); `None` when `a` is empty.
+pub fn buffer_difference(a: &HdrImage, b: &HdrImage) -> Option<BufferDifference> {
+    let (mut diff, mut sum_a, mut sum_b) = (0.0f64, 0.0f64, 0.0f64);
+    for (p, q) in a.pixels.iter().zip(&b.pixels) {
+        for c in 0..3 {
+            diff += (p[c] as f64 - q[c] as f64).abs();
+            sum_a += p[c] as f64;
+            sum_b += q[c] as f64;
+        }
+    }
+    (sum_a > 0.0 && a.pixels.len() == b.pixels.len())
+        .then(|| BufferDifference { relative_l1: diff / sum_a, sum_ratio: sum_b / sum_a })
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -166,9 +194,62 @@ pub fn run_config(
     warmup: u32,
     path: PhotonPath,
 ) -> Result<BenchResult> {
+    Ok(measure(device, scene, config, frames, warmup, path, false)?.0)
+}
+
+/// Every photon path on `config`, the geometry shader's first: each one's times and how
+/// its caustic and godray buffers differ from the geometry shader's on the first frame
+/// (time 0, the frame the splat floor replays). The compute path is skipped, with a note,
+/// on a device without float atomics.
+pub fn compare_paths(
+    device: &Arc<Device>,
+    scene: &Scene,
+    config: &BenchConfig,
+    frames: u32,
+    warmup: u32,
+) -> Result<Vec<BenchResult>> {
+    let mut out: Vec<BenchResult> = Vec::new();
+    let mut reference: Option<[Option<HdrImage>; 2]> = None;
+    for path in PhotonPath::ALL {
+        if path == PhotonPath::Compute && !device.has_float_atomics() {
+            eprintln!("  {}: skipped, {} lacks shaderBufferFloat32AtomicAdd", path.name(), device.info.name);
+            continue;
+        }
+        eprintln!("  {} path…", path.name());
+        let (mut result, buffers) = measure(device, scene, config, frames, warmup, path, true)?;
+        let buffers = buffers.expect("measure reads the buffers back when asked");
+        match &reference {
+            None => reference = Some(buffers),
+            Some(r) => {
+                let diff = |i: usize| match (&r[i], &buffers[i]) {
+                    (Some(a), Some(b)) => buffer_difference(a, b),
+                    _ => None,
+                };
+                result.caustic_difference = diff(0);
+                result.godray_difference = diff(1);
+            }
+        }
+        out.push(result);
+    }
+    Ok(out)
+}
+
+/// `run_config`, and with `read_buffers` one more frame at time 0 whose unfiltered caustic
+/// and godray buffers are read back (outside the measured frames).
+fn measure(
+    device: &Arc<Device>,
+    scene: &Scene,
+    config: &BenchConfig,
+    frames: u32,
+    warmup: u32,
+    path: PhotonPath,
+    read_buffers: bool,
+) -> Result<(BenchResult, Option<[Option<HdrImage>; 2]>)> {
     if frames == 0 {
         bail!("--frames must be at least 1");
     }
+    // The splat floor's first frame also records its splats: never measure it.
+    let warmup = if path == PhotonPath::SplatFloor { warmup.max(1) } else { warmup };
     let s = config.apply(scene);
     let extent = vk::Extent2D { width: config.width, height: config.height };
     let options = FrameOptions { photon_path: path, ..Default::default() };
@@ -184,7 +265,13 @@ pub fn run_config(
     }
     let totals = measured.iter().map(|t| t.total_ms()).collect();
     let n = |grid: u32| (grid as u64 * config.subdivision as u64).pow(2);
-    Ok(BenchResult {
+    let buffers = if read_buffers {
+        let (_, images) = renderer.render(1, 0.0, 0.0, true)?;
+        images.map(|i| [i.caustics, i.godrays])
+    } else {
+        None
+    };
+    let result = BenchResult {
         config: config.clone(),
         photon_path: path,
         scene: s.name.clone(),
@@ -193,7 +280,10 @@ pub fn run_config(
         godray_photons: if renderer.frame.plan.runs(PassId::Godrays) { n(config.godray_grid) } else { 0 },
         passes,
         total: stats("total", totals),
-    })
+        caustic_difference: None,
+        godray_difference: None,
+    };
+    Ok((result, buffers))
 }
 
 impl BenchReport {
@@ -203,7 +293,7 @@ impl BenchReport {
         let mut out = String::new();
         let _ = writeln!(out, "device: {} ({})", self.device, self.driver);
         let ids = ["shadow", "scene", "caustics", "godrays", "filter", "compose"];
-        let _ = write!(out, "{:<26} {:>10}", "config", "photons");
+        let _ = write!(out, "{:<32} {:>10}", "config", "photons");
         for id in ids {
             let _ = write!(out, " {:>9}", id);
         }
@@ -212,8 +302,10 @@ impl BenchReport {
             let name = match r.photon_path {
                 PhotonPath::GeometryShader => r.config.name.to_string(),
                 PhotonPath::VertexOnly => format!("{} (vertex)", r.config.name),
+                PhotonPath::Compute => format!("{} (compute)", r.config.name),
+                PhotonPath::SplatFloor => format!("{} (splat floor)", r.config.name),
             };
-            let _ = write!(out, "{:<26} {:>10}", name, r.caustic_photons + r.godray_photons);
+            let _ = write!(out, "{:<32} {:>10}", name, r.caustic_photons + r.godray_photons);
             for id in ids {
                 match r.passes.iter().find(|p| p.pass == id) {
                     Some(p) => {
@@ -228,17 +320,69 @@ impl BenchReport {
             let span = format!("{:.2} [{:.2}–{:.2}]", t.median_ms, t.p5_ms, t.p95_ms);
             let _ = writeln!(out, " {:>26} {:>9.1} {:>10}", span, 1000.0 / t.median_ms, r.config.paper_fps);
         }
+        if self.results.iter().any(|r| r.photon_path != PhotonPath::GeometryShader) {
+            out.push_str(&self.paths_table());
+        }
+        out
+    }
+
+    /// The photon paths side by side: each path's caustic and godray pass times, as a
+    /// multiple of the geometry shader's, and how its buffers differ from the geometry
+    /// shader's (relative L1, and the ratio of the sums).
+    fn paths_table(&self) -> String {
+        let mut out = String::from("\nphoton paths against the geometry shader (same configuration, same run):\n");
+        let _ = writeln!(
+            out,
+            "{:<18} {:<18} {:>12} {:>8} {:>12} {:>8} {:>22} {:>22}",
+            "config", "path", "caustics ms", "× GS", "godrays ms", "× GS", "caustic L1 (sum ×)", "godray L1 (sum ×)"
+        );
+        let ms = |r: &BenchResult, pass: &str| r.passes.iter().find(|p| p.pass == pass).map(|p| p.median_ms);
+        for r in &self.results {
+            let gs = self
+                .results
+                .iter()
+                .find(|g| g.config.name == r.config.name && g.photon_path == PhotonPath::GeometryShader);
+            let cell = |pass: &str| match (ms(r, pass), gs.and_then(|g| ms(g, pass))) {
+                (Some(v), Some(g)) => (format!("{v:.2}"), format!("{:.2}", v / g)),
+                (Some(v), None) => (format!("{v:.2}"), "-".into()),
+                _ => ("-".into(), "-".into()),
+            };
+            let diff = |d: &Option<BufferDifference>| match d {
+                Some(d) => format!("{:.2e} ({:.4})", d.relative_l1, d.sum_ratio),
+                None if r.photon_path == PhotonPath::GeometryShader => "reference".into(),
+                None => "-".into(),
+            };
+            let (c, cx) = cell("caustics");
+            let (g, gx) = cell("godrays");
+            let _ = writeln!(
+                out,
+                "{:<18} {:<18} {:>12} {:>8} {:>12} {:>8} {:>22} {:>22}",
+                r.config.name,
+                r.photon_path.name(),
+                c,
+                cx,
+                g,
+                gx,
+                diff(&r.caustic_difference),
+                diff(&r.godray_difference)
+            );
+        }
         out
     }
 
     /// One CSV row per configuration and pass (the total as pass "total").
     pub fn csv(&self) -> String {
-        let mut out = String::from("device,driver,config,photon_path,scene,width,height,caustic_photons,godray_photons,frames,pass,median_ms,p5_ms,p95_ms\n");
+        let mut out = String::from("device,driver,config,photon_path,scene,width,height,caustic_photons,godray_photons,frames,pass,median_ms,p5_ms,p95_ms,caustic_relative_l1,caustic_sum_ratio,godray_relative_l1,godray_sum_ratio\n");
+        // Empty where there is no difference (the geometry shader's own rows).
+        let diff = |d: &Option<BufferDifference>| match d {
+            Some(d) => format!("{:.6e},{:.6}", d.relative_l1, d.sum_ratio),
+            None => ",".to_string(),
+        };
         for r in &self.results {
             for p in r.passes.iter().chain(std::iter::once(&r.total)) {
                 let _ = writeln!(
                     out,
-                    "\"{}\",\"{}\",{},{:?},{},{},{},{},{},{},{},{:.6},{:.6},{:.6}",
+                    "\"{}\",\"{}\",{},{:?},{},{},{},{},{},{},{},{:.6},{:.6},{:.6},{},{}",
                     self.device,
                     self.driver,
                     r.config.name,
@@ -252,7 +396,9 @@ impl BenchReport {
                     p.pass,
                     p.median_ms,
                     p.p5_ms,
-                    p.p95_ms
+                    p.p95_ms,
+                    diff(&r.caustic_difference),
+                    diff(&r.godray_difference)
                 );
             }
         }

@@ -84,8 +84,9 @@ struct BenchArgs {
     /// Frames rendered first and discarded (pipeline and cache warm-up).
     #[arg(long, default_value_t = 5)]
     warmup: u32,
-    /// Also run each configuration with the vertex-only caustic photon path (no geometry
-    /// shader), for the cost of the method's amplification stage.
+    /// Also run each configuration with the peers of the geometry-shader photon path (vertex
+    /// only, compute with atomic splats) and the raw splat floor, and report each one's time
+    /// and how its buffers differ from the geometry shader's.
     #[arg(long)]
     compare_paths: bool,
     /// Also measure how each photon pass's cost grows with photons, target size, point size
@@ -339,10 +340,11 @@ fn bench(cli: &Cli, args: &BenchArgs) -> Result<i32> {
     let mut report = bench::BenchReport { device: info.name.clone(), driver: format!("{} {}", info.driver_name, info.driver_info), results: Vec::new() };
     for c in &chosen {
         eprintln!("{}: {}×{}, {} warm-up + {} frames…", c.name, c.width, c.height, args.warmup, args.frames);
-        use underlight::passes::caustics::PhotonPath;
-        report.results.push(bench::run_config(&ctx.device, &scene, c, args.frames, args.warmup, PhotonPath::GeometryShader)?);
+        use underlight::passes::PhotonPath;
         if args.compare_paths {
-            report.results.push(bench::run_config(&ctx.device, &scene, c, args.frames, args.warmup, PhotonPath::VertexOnly)?);
+            report.results.extend(bench::compare_paths(&ctx.device, &scene, c, args.frames, args.warmup)?);
+        } else {
+            report.results.push(bench::run_config(&ctx.device, &scene, c, args.frames, args.warmup, PhotonPath::GeometryShader)?);
         }
     }
     print!("{}", report.table());

@@ -48,3 +48,46 @@ fn bench_smoke_reports_every_pass() {
     assert!(rows.lines().nth(1).unwrap().contains("llvmpipe") || !report["device"].as_str().unwrap().contains("llvmpipe"));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `--compare-paths` runs every photon path on the same configuration, reports its times and
+/// how its buffers differ from the geometry shader's; the peers that draw the same points
+/// (vertex-only, the splat floor) report no difference, the compute path a small one.
+#[test]
+fn bench_compares_the_photon_paths() {
+    let dir = std::env::temp_dir().join(format!("underlight-bench-paths-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let json = dir.join("p.json");
+    let out = Command::new(env!("CARGO_BIN_EXE_underlight"))
+        .args(["bench", "--config", "tiny", "--frames", "3", "--warmup", "1", "--compare-paths", "--json"])
+        .arg(&json)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("photon paths against the geometry shader"), "{stdout}");
+    let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let results = doc["report"]["results"].as_array().unwrap();
+    let paths: Vec<&str> = results.iter().map(|r| r["photon_path"].as_str().unwrap()).collect();
+    assert_eq!(paths, ["GeometryShader", "VertexOnly", "Compute", "SplatFloor"], "lavapipe has float atomics");
+    for r in results {
+        let caustics = r["passes"].as_array().unwrap().iter().find(|p| p["pass"] == "caustics").unwrap();
+        assert!(caustics["median_ms"].as_f64().unwrap() > 0.0, "{r}");
+        let (c, g) = (&r["caustic_difference"], &r["godray_difference"]);
+        match r["photon_path"].as_str().unwrap() {
+            "GeometryShader" => assert!(c.is_null() && g.is_null()),
+            "Compute" => {
+                for d in [c, g] {
+                    let l1 = d["relative_l1"].as_f64().unwrap();
+                    assert!(l1 < 0.02, "{d}");
+                }
+            }
+            _ => {
+                for d in [c, g] {
+                    assert!(d["relative_l1"].as_f64().unwrap() < 1e-6, "{d}");
+                    assert!((d["sum_ratio"].as_f64().unwrap() - 1.0).abs() < 1e-6, "{d}");
+                }
+            }
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

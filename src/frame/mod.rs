@@ -46,6 +46,10 @@ pub mod bindings {
     pub const FILTER_INPUT: u32 = 9;
     /// The caustics pass's photon records (debug variant only; the pass binds its own buffer).
     pub const PHOTON_DEBUG: u32 = 10;
+    /// A compute photon path's accumulation buffer (its pass binds its own).
+    pub const PHOTON_ACCUMULATION: u32 = 11;
+    /// The raw splat floor's recorded splats (its pass binds its own).
+    pub const SPLAT_RECORDS: u32 = 12;
 }
 
 /// Which passes a scene needs, and why each is in or out.
@@ -160,8 +164,9 @@ pub struct FrameOptions {
     /// The caustics pass writes every photon's cast to a host-visible buffer (needs
     /// vertexPipelineStoresAndAtomics).
     pub record_photons: bool,
-    /// How caustic photons are generated (the geometry shader, or one vertex per photon).
-    pub photon_path: crate::passes::caustics::PhotonPath,
+    /// How photons are generated and splatted (the geometry shader, or a peer it is measured
+    /// against).
+    pub photon_path: crate::passes::PhotonPath,
 }
 
 /// Filter kernel radii, pixels of each buffer. The caustic radius is about half the paper's
@@ -238,7 +243,7 @@ impl Frame {
         let godrays = if plan.runs(PassId::Godrays) {
             let e = &scene.effects;
             let ext = vk::Extent2D { width: extents.godray[0], height: extents.godray[1] };
-            Some(GodraysPass::new(device, ext, e.godray_grid, e.godray_subdivision, e.line_width)?)
+            Some(GodraysPass::new(device, ext, e.godray_grid, e.godray_subdivision, e.line_width, options.photon_path)?)
         } else {
             None
         };

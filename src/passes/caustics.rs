@@ -6,13 +6,16 @@
 use crate::error::{Error, Result};
 use crate::shader_math::MAX_SUBDIVISION;
 use crate::frame::bindings as b;
+use crate::passes::photon_accumulation::{dispatch_per_photon, require_float_atomics, AtomicAccumulation};
+use crate::passes::PhotonPath;
 use crate::vk::buffer::Buffer;
 use crate::vk::commands::FRAMES_IN_FLIGHT;
-use crate::vk::descriptors::{Binding, DescriptorSets};
+use crate::vk::descriptors::{Binding, DescriptorSets, Resource};
 use crate::vk::device::Device;
-use crate::vk::pipeline::{Blend, GraphicsPipelineDesc, Pipeline};
+use crate::vk::pipeline::{Blend, ComputePipelineDesc, GraphicsPipelineDesc, Pipeline};
 use crate::vk::render_pass::ColorTarget;
 use ash::vk;
+use std::cell::Cell;
 use std::sync::Arc;
 
 /// What the caustics shaders read: the water's noise, the light's receiver maps, and the
@@ -27,24 +30,16 @@ pub const BINDINGS: &[(u32, Binding)] = &[
 
 pub const TARGET_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 
-/// The debug variant also writes every photon's cast into a host-visible buffer.
-pub const DEBUG_BINDINGS: &[(u32, Binding)] = &[
-    (b::UNIFORMS, Binding::Uniform),
-    (b::NOISE, Binding::Texture),
-    (b::LIGHT_POSITION, Binding::Texture),
-    (b::LIGHT_NORMAL, Binding::Texture),
-    (b::SCENE_DEPTH, Binding::Texture),
-    (b::PHOTON_DEBUG, Binding::Storage),
-];
+/// Bytes of one recorded splat of the raw splat floor: clip position, irradiance, and
+/// (point size, view depth) padded to a vec4 (`SplatRecord` in glsl/caustics_record.comp).
+const SPLAT_RECORD_BYTES: u64 = 48;
 
-/// How photons are generated from the coarse grid.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
-pub enum PhotonPath {
-    /// The method's: a geometry shader subdivides each coarse cell into SUBDIVISION² photons.
-    #[default]
-    GeometryShader,
-    /// No amplification stage: one vertex per photon, drawn as points (for comparison).
-    VertexOnly,
+/// The raw splat floor's extra state: the recorded splats and the compute cast that records
+/// them on the first frame.
+struct SplatFloor {
+    records: Buffer,
+    cast: Pipeline,
+    recorded: Cell<bool>,
 }
 
 pub struct CausticsPass {
@@ -53,7 +48,11 @@ pub struct CausticsPass {
     pub subdivision: u32,
     /// With photon recording on: two vec4 per photon, (hit, landed) and (surface, flux).
     pub photon_records: Option<Buffer>,
+    /// The photon pipeline: graphics for the rasterised paths and the splat floor's draw,
+    /// compute for the compute path.
     pipeline: Pipeline,
+    accumulation: Option<AtomicAccumulation>,
+    splat_floor: Option<SplatFloor>,
     pub target: ColorTarget,
     /// This pass's descriptor sets (one per frame in flight), written by the frame.
     pub sets: DescriptorSets,
@@ -81,10 +80,26 @@ impl CausticsPass {
                 missing: vec!["vertexPipelineStoresAndAtomics (photon recording)"],
             });
         }
-        let bindings = if record_photons { DEBUG_BINDINGS } else { BINDINGS };
-        let sets = DescriptorSets::new(device, "caustics", bindings, FRAMES_IN_FLIGHT as u32)?;
+        if subdivision == 0 || subdivision > MAX_SUBDIVISION {
+            return Err(Error::InvalidParameter {
+                name: "caustic_subdivision",
+                message: format!("{subdivision} is outside 1..={MAX_SUBDIVISION}"),
+            });
+        }
+        if path == PhotonPath::Compute {
+            require_float_atomics(device, "caustics")?;
+        }
+        let photons = (grid as u64 * subdivision as u64).pow(2);
+        // Each path binds what its shaders read besides the frame's textures.
+        let mut bindings = BINDINGS.to_vec();
+        match (path, record_photons) {
+            (_, true) => bindings.push((b::PHOTON_DEBUG, Binding::Storage)),
+            (PhotonPath::Compute, _) => bindings.push((b::PHOTON_ACCUMULATION, Binding::Storage)),
+            (PhotonPath::SplatFloor, _) => bindings.push((b::SPLAT_RECORDS, Binding::Storage)),
+            _ => {}
+        }
+        let sets = DescriptorSets::new(device, "caustics", &bindings, FRAMES_IN_FLIGHT as u32)?;
         let photon_records = if record_photons {
-            let photons = (grid as u64 * subdivision as u64).pow(2);
             Some(Buffer::new(
                 device,
                 "caustic photon records",
@@ -95,45 +110,132 @@ impl CausticsPass {
         } else {
             None
         };
-        if subdivision == 0 || subdivision > MAX_SUBDIVISION {
-            return Err(Error::InvalidParameter {
-                name: "caustic_subdivision",
-                message: format!("{subdivision} is outside 1..={MAX_SUBDIVISION}"),
-            });
-        }
         let target = ColorTarget::new(device, "caustics", extent, TARGET_FORMAT, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)?;
-        let vertex = match path {
-            PhotonPath::GeometryShader => "photon_grid.vert",
-            PhotonPath::VertexOnly => "caustics_vertex.vert",
-        };
-        let pipeline = Pipeline::graphics(
-            device,
-            &GraphicsPipelineDesc {
-                geometry: match (path, record_photons) {
-                    (PhotonPath::VertexOnly, _) => None,
-                    (PhotonPath::GeometryShader, true) => Some("caustics_debug.geom"),
-                    (PhotonPath::GeometryShader, false) => Some("caustics.geom"),
+        let specialization = [(0, subdivision)];
+        let set_layouts = [sets.layout];
+        let compute = |name: &str, shader: &str| {
+            Pipeline::compute(
+                device,
+                &ComputePipelineDesc {
+                    name,
+                    shader,
+                    specialization: &specialization,
+                    push_constant_bytes: 4,
+                    set_layouts: &set_layouts,
                 },
+            )
+        };
+        let splat_attributes = [
+            (0, vk::Format::R32G32B32A32_SFLOAT, 0),
+            (1, vk::Format::R32G32B32A32_SFLOAT, 16),
+            (2, vk::Format::R32G32B32A32_SFLOAT, 32),
+        ];
+        let points = |vertex: &'static str, geometry: Option<&'static str>| {
+            GraphicsPipelineDesc {
+                geometry,
                 topology: vk::PrimitiveTopology::POINT_LIST,
                 blend: Blend::Additive,
-                specialization: &[(0, subdivision)],
+                specialization: &specialization,
                 push_constant_bytes: 4,
-                set_layouts: &[sets.layout],
+                set_layouts: &set_layouts,
                 ..GraphicsPipelineDesc::new("caustics", vertex, "caustics.frag", target.render_pass.raw)
-            },
-        )?;
-        Ok(Self { path, grid, subdivision, photon_records, pipeline, target, sets, device: device.clone() })
+            }
+        };
+        let (pipeline, accumulation, splat_floor) = match path {
+            PhotonPath::GeometryShader => {
+                let geometry = if record_photons { "caustics_debug.geom" } else { "caustics.geom" };
+                (Pipeline::graphics(device, &points("photon_grid.vert", Some(geometry)))?, None, None)
+            }
+            PhotonPath::VertexOnly => (Pipeline::graphics(device, &points("caustics_vertex.vert", None))?, None, None),
+            PhotonPath::Compute => {
+                let accumulation = AtomicAccumulation::new(device, "caustics", &target)?;
+                (compute("caustics compute", "caustics.comp")?, Some(accumulation), None)
+            }
+            PhotonPath::SplatFloor => {
+                let records = Buffer::new(
+                    device,
+                    "caustic splat records",
+                    photons * SPLAT_RECORD_BYTES,
+                    vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::VERTEX_BUFFER,
+                    gpu_allocator::MemoryLocation::GpuOnly,
+                )?;
+                let draw = Pipeline::graphics(
+                    device,
+                    &GraphicsPipelineDesc {
+                        vertex_stride: SPLAT_RECORD_BYTES as u32,
+                        vertex_attributes: &splat_attributes,
+                        ..points("splat_floor.vert", None)
+                    },
+                )?;
+                let cast = compute("caustic splat recording", "caustics_record.comp")?;
+                (draw, None, Some(SplatFloor { records, cast, recorded: Cell::new(false) }))
+            }
+        };
+        // The buffers only this pass knows, in every frame's set.
+        let own: Option<Resource> = match (&photon_records, &accumulation, &splat_floor) {
+            (Some(r), _, _) => Some(Resource::Storage { buffer: r.raw, range: r.size }),
+            (_, Some(a), _) => Some(a.resource()),
+            (_, _, Some(f)) => Some(Resource::Storage { buffer: f.records.raw, range: f.records.size }),
+            _ => None,
+        };
+        if let (Some(resource), Some(binding)) = (own, bindings.get(BINDINGS.len())) {
+            for frame in 0..FRAMES_IN_FLIGHT {
+                sets.write_at(frame, vec![(binding.0 as usize, resource)]);
+            }
+        }
+        Ok(Self {
+            path,
+            grid,
+            subdivision,
+            photon_records,
+            pipeline,
+            accumulation,
+            splat_floor,
+            target,
+            sets,
+            device: device.clone(),
+        })
+    }
+
+    fn photons(&self) -> u64 {
+        (self.grid as u64 * self.subdivision as u64).pow(2)
     }
 
     pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize) {
         let dev = &self.device;
+        let set = Some(self.sets.sets[frame_index]);
+        let grid = self.grid.to_ne_bytes();
+        if let Some(acc) = &self.accumulation {
+            acc.record_clear(cmd);
+            self.pipeline.bind(cmd, set);
+            self.pipeline.push(cmd, &grid);
+            dispatch_per_photon(dev, cmd, self.photons());
+            acc.record_resolve(cmd, &self.target);
+            return;
+        }
+        if let Some(floor) = &self.splat_floor {
+            if !floor.recorded.replace(true) {
+                floor.cast.bind(cmd, set);
+                floor.cast.push(cmd, &grid);
+                dispatch_per_photon(dev, cmd, self.photons());
+                let to_vertices = [vk::MemoryBarrier2::default()
+                    .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+                    .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
+                    .dst_stage_mask(vk::PipelineStageFlags2::VERTEX_ATTRIBUTE_INPUT)
+                    .dst_access_mask(vk::AccessFlags2::VERTEX_ATTRIBUTE_READ)];
+                unsafe { dev.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&to_vertices)) };
+            }
+        }
         self.target.render_pass.begin(cmd);
-        self.pipeline.bind(cmd, Some(self.sets.sets[frame_index]));
-        self.pipeline.push(cmd, &self.grid.to_ne_bytes());
+        self.pipeline.bind(cmd, set);
+        self.pipeline.push(cmd, &grid);
         let vertices = match self.path {
             PhotonPath::GeometryShader => self.grid * self.grid,
-            PhotonPath::VertexOnly => (self.grid * self.subdivision).pow(2),
+            _ => self.photons() as u32,
         };
+        if let Some(floor) = &self.splat_floor {
+            unsafe { dev.raw.cmd_bind_vertex_buffers(cmd, 0, &[floor.records.raw], &[0]) };
+        }
         unsafe { dev.raw.cmd_draw(cmd, vertices, 1, 0, 0) };
         self.target.render_pass.end(cmd);
         if self.photon_records.is_some() {

@@ -5,11 +5,13 @@
 
 use crate::error::{Error, Result};
 use crate::frame::bindings as b;
+use crate::passes::photon_accumulation::{dispatch_per_photon, require_float_atomics, AtomicAccumulation};
+use crate::passes::PhotonPath;
 use crate::shader_math::GODRAY_MAX_SUBDIVISION;
 use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
-use crate::vk::pipeline::{Blend, GraphicsPipelineDesc, Pipeline};
+use crate::vk::pipeline::{Blend, ComputePipelineDesc, GraphicsPipelineDesc, Pipeline};
 use crate::vk::render_pass::ColorTarget;
 use ash::vk;
 use std::sync::Arc;
@@ -29,17 +31,33 @@ pub const BINDINGS: &[(u32, Binding)] = &[
 pub const TARGET_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 
 pub struct GodraysPass {
+    /// The geometry shader, vertex-only or compute path (the splat floor is a caustics-only
+    /// measurement: godrays use the geometry shader there).
+    pub path: PhotonPath,
     pub grid: u32,
+    pub subdivision: u32,
     /// Line width actually drawn, px (the scene's, clamped to the device's range).
     pub line_width: f32,
     pipeline: Pipeline,
+    accumulation: Option<AtomicAccumulation>,
     pub target: ColorTarget,
     pub sets: DescriptorSets,
     device: Arc<Device>,
 }
 
 impl GodraysPass {
-    pub fn new(device: &Arc<Device>, extent: vk::Extent2D, grid: u32, subdivision: u32, line_width: f32) -> Result<Self> {
+    pub fn new(
+        device: &Arc<Device>,
+        extent: vk::Extent2D,
+        grid: u32,
+        subdivision: u32,
+        line_width: f32,
+        path: PhotonPath,
+    ) -> Result<Self> {
+        let path = if path == PhotonPath::SplatFloor { PhotonPath::GeometryShader } else { path };
+        if path == PhotonPath::Compute {
+            require_float_atomics(device, "godrays")?;
+        }
         if subdivision == 0 || subdivision > GODRAY_MAX_SUBDIVISION {
             return Err(Error::InvalidParameter {
                 name: "godray_subdivision",
@@ -59,32 +77,75 @@ impl GodraysPass {
                 missing: vec!["R32G32B32A32_SFLOAT with blending and linear filtering (godray target)"],
             });
         }
-        let sets = DescriptorSets::new(device, "godrays", BINDINGS, FRAMES_IN_FLIGHT as u32)?;
+        let mut bindings = BINDINGS.to_vec();
+        if path == PhotonPath::Compute {
+            bindings.push((b::PHOTON_ACCUMULATION, Binding::Storage));
+        }
+        let sets = DescriptorSets::new(device, "godrays", &bindings, FRAMES_IN_FLIGHT as u32)?;
         let target = ColorTarget::new(device, "godrays", extent, TARGET_FORMAT, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)?;
-        let pipeline = Pipeline::graphics(
-            device,
-            &GraphicsPipelineDesc {
-                geometry: Some("godrays.geom"),
-                topology: vk::PrimitiveTopology::POINT_LIST,
-                blend: Blend::Additive,
-                specialization: &[(0, subdivision)],
-                push_constant_bytes: 4,
-                set_layouts: &[sets.layout],
-                dynamic_line_width: true,
-                ..GraphicsPipelineDesc::new("godrays", "photon_grid.vert", "godrays.frag", target.render_pass.raw)
-            },
-        )?;
-        Ok(Self { grid, line_width, pipeline, target, sets, device: device.clone() })
+        let specialization = [(0, subdivision)];
+        let set_layouts = [sets.layout];
+        let lines = |vertex, geometry, topology| GraphicsPipelineDesc {
+            geometry,
+            topology,
+            blend: Blend::Additive,
+            specialization: &specialization,
+            push_constant_bytes: 4,
+            set_layouts: &set_layouts,
+            dynamic_line_width: true,
+            ..GraphicsPipelineDesc::new("godrays", vertex, "godrays.frag", target.render_pass.raw)
+        };
+        let (pipeline, accumulation) = match path {
+            PhotonPath::VertexOnly => {
+                (Pipeline::graphics(device, &lines("godrays_vertex.vert", None, vk::PrimitiveTopology::LINE_LIST))?, None)
+            }
+            PhotonPath::Compute => {
+                let accumulation = AtomicAccumulation::new(device, "godrays", &target)?;
+                for frame in 0..FRAMES_IN_FLIGHT {
+                    sets.write_at(frame, vec![(b::PHOTON_ACCUMULATION as usize, accumulation.resource())]);
+                }
+                let desc = ComputePipelineDesc {
+                    name: "godrays compute",
+                    shader: "godrays.comp",
+                    specialization: &specialization,
+                    push_constant_bytes: 4,
+                    set_layouts: &set_layouts,
+                };
+                (Pipeline::compute(device, &desc)?, Some(accumulation))
+            }
+            _ => (
+                Pipeline::graphics(
+                    device,
+                    &lines("photon_grid.vert", Some("godrays.geom"), vk::PrimitiveTopology::POINT_LIST),
+                )?,
+                None,
+            ),
+        };
+        Ok(Self { path, grid, subdivision, line_width, pipeline, accumulation, target, sets, device: device.clone() })
     }
 
     pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize) {
         let dev = &self.device;
+        let set = Some(self.sets.sets[frame_index]);
+        let photons = (self.grid as u64 * self.subdivision as u64).pow(2);
+        if let Some(acc) = &self.accumulation {
+            acc.record_clear(cmd);
+            self.pipeline.bind(cmd, set);
+            self.pipeline.push(cmd, &self.grid.to_ne_bytes());
+            dispatch_per_photon(dev, cmd, photons);
+            acc.record_resolve(cmd, &self.target);
+            return;
+        }
         self.target.render_pass.begin(cmd);
-        self.pipeline.bind(cmd, Some(self.sets.sets[frame_index]));
+        self.pipeline.bind(cmd, set);
         self.pipeline.push(cmd, &self.grid.to_ne_bytes());
+        let vertices = match self.path {
+            PhotonPath::VertexOnly => 2 * photons as u32,
+            _ => self.grid * self.grid,
+        };
         unsafe {
             dev.raw.cmd_set_line_width(cmd, self.line_width);
-            dev.raw.cmd_draw(cmd, self.grid * self.grid, 1, 0, 0);
+            dev.raw.cmd_draw(cmd, vertices, 1, 0, 0);
         }
         self.target.render_pass.end(cmd);
     }

@@ -6,10 +6,45 @@ pub mod compose;
 pub mod filter;
 pub mod godrays;
 pub mod grid_splat;
+pub mod photon_accumulation;
 pub mod scene;
 pub mod shadow;
 
 use std::ffi::CStr;
+
+/// How the photon passes generate and splat their photons. The geometry shader is the
+/// method's; the others draw the same buffers without it, so `underlight bench
+/// --compare-paths` can put a measured figure on what the amplification stage costs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub enum PhotonPath {
+    /// The method's: a geometry shader turns each coarse cell into SUBDIVISION² photons.
+    #[default]
+    GeometryShader,
+    /// No amplification stage: one vertex per caustic photon (drawn as points) and two per
+    /// godray photon (drawn as lines), each finding its photon from gl_VertexIndex.
+    VertexOnly,
+    /// A compute shader casts each photon and adds its splat or beam with float atomics
+    /// (needs VK_EXT_shader_atomic_float).
+    Compute,
+    /// Not a path but a floor to compare with: the caustics pass draws, every frame, the
+    /// points the compute cast recorded on its first frame (the same number, sizes and
+    /// irradiance, no photon math). Godrays use the geometry shader.
+    SplatFloor,
+}
+
+impl PhotonPath {
+    pub const ALL: [PhotonPath; 4] =
+        [PhotonPath::GeometryShader, PhotonPath::VertexOnly, PhotonPath::Compute, PhotonPath::SplatFloor];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            PhotonPath::GeometryShader => "geometry shader",
+            PhotonPath::VertexOnly => "vertex only",
+            PhotonPath::Compute => "compute (atomics)",
+            PhotonPath::SplatFloor => "raw splat floor",
+        }
+    }
+}
 
 /// Every pass underlight can record, in frame order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

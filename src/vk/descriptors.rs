@@ -27,6 +27,7 @@ impl Binding {
 }
 
 /// A resource written into a binding.
+#[derive(Clone, Copy)]
 pub enum Resource {
     Uniform { buffer: vk::Buffer, range: vk::DeviceSize },
     Texture { view: vk::ImageView, sampler: vk::Sampler, layout: vk::ImageLayout },
@@ -42,7 +43,7 @@ pub struct DescriptorSets {
 
 impl DescriptorSets {
     /// One set layout with exactly `bindings` (binding number, kind), visible to every
-    /// graphics stage, and `count` sets of it. Binding numbers may be sparse: passes share
+    /// graphics stage and to compute, and `count` sets of it. Binding numbers may be sparse: passes share
     /// one numbering (glsl/frame_textures.glsl) but each declares only what it reads.
     pub fn new(device: &Arc<Device>, name: &str, bindings: &[(u32, Binding)], count: u32) -> Result<Self> {
         let layout_bindings: Vec<vk::DescriptorSetLayoutBinding> = bindings
@@ -52,7 +53,7 @@ impl DescriptorSets {
                     .binding(i)
                     .descriptor_type(b.vk_type())
                     .descriptor_count(1)
-                    .stage_flags(vk::ShaderStageFlags::ALL_GRAPHICS)
+                    .stage_flags(vk::ShaderStageFlags::ALL_GRAPHICS | vk::ShaderStageFlags::COMPUTE)
             })
             .collect();
         let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&layout_bindings);

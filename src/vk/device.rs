@@ -63,10 +63,19 @@ pub fn enumerate(instance: &Instance) -> Result<Vec<PhysicalDeviceInfo>> {
         let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver);
         unsafe { raw.get_physical_device_properties2(handle, &mut props2) };
         let properties = props2.properties;
+        let extensions = unsafe { raw.enumerate_device_extension_properties(handle) }
+            .call("vkEnumerateDeviceExtensionProperties")?;
+        let has_atomic_float = extensions.iter().any(|e| e.extension_name_as_c_str() == Ok(ash::ext::shader_atomic_float::NAME));
         let mut f13 = vk::PhysicalDeviceVulkan13Features::default();
+        let mut atomic_float = vk::PhysicalDeviceShaderAtomicFloatFeaturesEXT::default();
         let mut f2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut f13);
+        // Chained only when the device has the extension (querying an unknown struct is invalid).
+        if has_atomic_float {
+            f2 = f2.push_next(&mut atomic_float);
+        }
         unsafe { raw.get_physical_device_features2(handle, &mut f2) };
         let features = f2.features;
+        let buffer_float_atomic_add = has_atomic_float && atomic_float.shader_buffer_float32_atomic_add == vk::TRUE;
         let queues = unsafe { raw.get_physical_device_queue_family_properties(handle) };
         let graphics = queues.iter().position(|q| q.queue_flags.contains(vk::QueueFlags::GRAPHICS));
         let cstr = |s: &[std::ffi::c_char]| {
@@ -87,6 +96,7 @@ pub fn enumerate(instance: &Instance) -> Result<Vec<PhysicalDeviceInfo>> {
                     && properties.api_version >= vk::API_VERSION_1_3,
                 graphics_timestamp_valid_bits: graphics.map(|i| queues[i].timestamp_valid_bits),
                 timestamp_period: properties.limits.timestamp_period,
+                buffer_float_atomic_add,
             },
             graphics_queue_family: graphics.map(|i| i as u32),
         });
@@ -160,11 +170,20 @@ impl Device {
         };
         let mut f13 = vk::PhysicalDeviceVulkan13Features::default().synchronization2(true);
         let mut f2 = vk::PhysicalDeviceFeatures2::default().features(features).push_next(&mut f13);
-        let extensions = [ash::khr::swapchain::NAME.as_ptr()];
-        let enabled: &[*const std::ffi::c_char] = if swapchain { &extensions } else { &[] };
+        // Optional: float atomics for the compute photon path, enabled where offered.
+        let mut atomic_float =
+            vk::PhysicalDeviceShaderAtomicFloatFeaturesEXT::default().shader_buffer_float32_atomic_add(true);
+        let mut enabled = Vec::new();
+        if swapchain {
+            enabled.push(ash::khr::swapchain::NAME.as_ptr());
+        }
+        if info.capabilities.buffer_float_atomic_add {
+            enabled.push(ash::ext::shader_atomic_float::NAME.as_ptr());
+            f2 = f2.push_next(&mut atomic_float);
+        }
         let create_info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queue_infos)
-            .enabled_extension_names(enabled)
+            .enabled_extension_names(&enabled)
             .push_next(&mut f2);
         instance.validation.set_phase("device creation");
         // SAFETY: the physical device comes from this instance; create_info points at locals.
@@ -205,6 +224,11 @@ impl Device {
     /// Whether geometry shaders may write storage buffers (the photon debug records).
     pub fn has_pipeline_stores(&self) -> bool {
         self.info.capabilities.features.vertex_pipeline_stores_and_atomics == vk::TRUE
+    }
+
+    /// Whether shaders may add floats atomically into storage buffers (the compute photon path).
+    pub fn has_float_atomics(&self) -> bool {
+        self.info.capabilities.buffer_float_atomic_add
     }
 
     pub fn limits(&self) -> &vk::PhysicalDeviceLimits {

@@ -11,6 +11,9 @@ pub struct DeviceCapabilities {
     /// `timestampValidBits` of the graphics queue family; `None` when there is no graphics queue.
     pub graphics_timestamp_valid_bits: Option<u32>,
     pub timestamp_period: f32,
+    /// VK_EXT_shader_atomic_float's `shaderBufferFloat32AtomicAdd`: optional, used only by the
+    /// compute photon path (splats added with float atomics), measured against the others.
+    pub buffer_float_atomic_add: bool,
 }
 
 /// Names of the required features the device lacks, in a fixed order; empty when suitable.
@@ -61,6 +64,7 @@ mod tests {
             synchronization2: true,
             graphics_timestamp_valid_bits: Some(64),
             timestamp_period: 1.0,
+            buffer_float_atomic_add: false,
         }
     }
 

@@ -1,4 +1,4 @@
-//! Shader modules and graphics pipelines.
+//! Shader modules, graphics pipelines and compute pipelines.
 //!
 //! Pipelines are described by a small struct rather than a builder chain, so a pass states
 //! in one place what its pipeline does (topology, blending, depth, specialization).
@@ -69,10 +69,50 @@ impl<'a> GraphicsPipelineDesc<'a> {
     }
 }
 
+/// Everything a pass decides about a compute pipeline.
+pub struct ComputePipelineDesc<'a> {
+    pub name: &'a str,
+    /// Embedded SPIR-V name, e.g. `caustics.comp`.
+    pub shader: &'a str,
+    pub specialization: &'a [(u32, u32)],
+    pub push_constant_bytes: u32,
+    pub set_layouts: &'a [vk::DescriptorSetLayout],
+}
+
 pub struct Pipeline {
     pub raw: vk::Pipeline,
     pub layout: vk::PipelineLayout,
+    bind_point: vk::PipelineBindPoint,
+    /// The stages of the layout's push-constant range (pushes must name exactly these).
+    push_stages: vk::ShaderStageFlags,
     device: Arc<Device>,
+}
+
+/// A pipeline layout with one push-constant range (if any bytes) visible to `stages`.
+fn pipeline_layout(
+    device: &Device,
+    name: &str,
+    set_layouts: &[vk::DescriptorSetLayout],
+    push_constant_bytes: u32,
+    stages: vk::ShaderStageFlags,
+) -> Result<vk::PipelineLayout> {
+    let push_ranges = [vk::PushConstantRange::default().stage_flags(stages).size(push_constant_bytes)];
+    let layout_info = vk::PipelineLayoutCreateInfo::default()
+        .set_layouts(set_layouts)
+        .push_constant_ranges(if push_constant_bytes > 0 { &push_ranges[..] } else { &[] });
+    let layout = unsafe { device.raw.create_pipeline_layout(&layout_info, None) }.call("vkCreatePipelineLayout")?;
+    device.set_name(layout, &format!("{name} layout"));
+    Ok(layout)
+}
+
+/// Specialization map entries and data for (id, value) pairs of 32-bit constants.
+fn specialization_data(constants: &[(u32, u32)]) -> (Vec<vk::SpecializationMapEntry>, Vec<u8>) {
+    let entries = constants
+        .iter()
+        .enumerate()
+        .map(|(i, (id, _))| vk::SpecializationMapEntry { constant_id: *id, offset: 4 * i as u32, size: 4 })
+        .collect();
+    (entries, constants.iter().flat_map(|(_, v)| v.to_ne_bytes()).collect())
 }
 
 /// Creates a shader module from embedded SPIR-V.
@@ -89,15 +129,16 @@ fn shader_module(device: &Device, name: &str) -> Result<vk::ShaderModule> {
 impl Pipeline {
     pub fn graphics(device: &Arc<Device>, desc: &GraphicsPipelineDesc<'_>) -> Result<Self> {
         let raw_dev = &device.raw;
-        let push_ranges = [vk::PushConstantRange::default()
-            .stage_flags(vk::ShaderStageFlags::ALL_GRAPHICS)
-            .size(desc.push_constant_bytes)];
-        let layout_info = vk::PipelineLayoutCreateInfo::default()
-            .set_layouts(desc.set_layouts)
-            .push_constant_ranges(if desc.push_constant_bytes > 0 { &push_ranges[..] } else { &[] });
-        let layout = unsafe { raw_dev.create_pipeline_layout(&layout_info, None) }.call("vkCreatePipelineLayout")?;
-        device.set_name(layout, &format!("{} layout", desc.name));
-        let mut pipeline = Self { raw: vk::Pipeline::null(), layout, device: device.clone() };
+        let push_stages = vk::ShaderStageFlags::ALL_GRAPHICS;
+        let layout = pipeline_layout(device, desc.name, desc.set_layouts, desc.push_constant_bytes, push_stages)?;
+        // Owns the layout from here, so an early return destroys it.
+        let mut pipeline = Self {
+            raw: vk::Pipeline::null(),
+            layout,
+            bind_point: vk::PipelineBindPoint::GRAPHICS,
+            push_stages,
+            device: device.clone(),
+        };
 
         let mut stages_named = vec![(vk::ShaderStageFlags::VERTEX, desc.vertex)];
         if let Some(g) = desc.geometry {
@@ -117,13 +158,7 @@ impl Pipeline {
             }
         }
 
-        let spec_entries: Vec<vk::SpecializationMapEntry> = desc
-            .specialization
-            .iter()
-            .enumerate()
-            .map(|(i, (id, _))| vk::SpecializationMapEntry { constant_id: *id, offset: 4 * i as u32, size: 4 })
-            .collect();
-        let spec_data: Vec<u8> = desc.specialization.iter().flat_map(|(_, v)| v.to_ne_bytes()).collect();
+        let (spec_entries, spec_data) = specialization_data(desc.specialization);
         let spec = vk::SpecializationInfo::default().map_entries(&spec_entries).data(&spec_data);
         let stages: Vec<vk::PipelineShaderStageCreateInfo> = stages_named
             .iter()
@@ -209,6 +244,32 @@ impl Pipeline {
         device.set_name(pipeline.raw, desc.name);
         Ok(pipeline)
     }
+
+    pub fn compute(device: &Arc<Device>, desc: &ComputePipelineDesc<'_>) -> Result<Self> {
+        let push_stages = vk::ShaderStageFlags::COMPUTE;
+        let layout = pipeline_layout(device, desc.name, desc.set_layouts, desc.push_constant_bytes, push_stages)?;
+        let mut pipeline = Self {
+            raw: vk::Pipeline::null(),
+            layout,
+            bind_point: vk::PipelineBindPoint::COMPUTE,
+            push_stages,
+            device: device.clone(),
+        };
+        let module = shader_module(device, desc.shader)?;
+        let (spec_entries, spec_data) = specialization_data(desc.specialization);
+        let spec = vk::SpecializationInfo::default().map_entries(&spec_entries).data(&spec_data);
+        let stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .module(module)
+            .name(c"main")
+            .specialization_info(&spec);
+        let info = vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout);
+        let created = unsafe { device.raw.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) };
+        unsafe { device.raw.destroy_shader_module(module, None) };
+        pipeline.raw = created.map_err(|(_, e)| e).call("vkCreateComputePipelines")?[0];
+        device.set_name(pipeline.raw, desc.name);
+        Ok(pipeline)
+    }
 }
 
 impl Pipeline {
@@ -216,16 +277,16 @@ impl Pipeline {
     pub fn bind(&self, cmd: vk::CommandBuffer, set: Option<vk::DescriptorSet>) {
         let dev = &self.device.raw;
         unsafe {
-            dev.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.raw);
+            dev.cmd_bind_pipeline(cmd, self.bind_point, self.raw);
             if let Some(set) = set {
-                dev.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, self.layout, 0, &[set], &[]);
+                dev.cmd_bind_descriptor_sets(cmd, self.bind_point, self.layout, 0, &[set], &[]);
             }
         }
     }
 
     /// Pushes `bytes` at offset 0 (every stage sees the push-constant block).
     pub fn push(&self, cmd: vk::CommandBuffer, bytes: &[u8]) {
-        unsafe { self.device.raw.cmd_push_constants(cmd, self.layout, vk::ShaderStageFlags::ALL_GRAPHICS, 0, bytes) };
+        unsafe { self.device.raw.cmd_push_constants(cmd, self.layout, self.push_stages, 0, bytes) };
     }
 }
 
