@@ -22,6 +22,7 @@ layout(set = 0, binding = 0, std140) uniform FrameUniforms {
     vec4 effect1;          // caustic photons per axis, godray photons per axis, iterations, light map size
     vec4 effect2;          // device point size max, device line width max, caustic target w, h
     vec4 effect3;          // godray target w, h, output w, h
+    vec4 water4;           // the water's phase at this frame's time (common.glsl, water_height_grad); w unused
 } frame;
 
 WaterParams frame_water() {
@@ -41,6 +42,7 @@ WaterParams frame_water() {
 }
 
 float frame_time() { return frame.camera_pos.w; }
+vec3 frame_water_phase() { return frame.water4.xyz; }
 
 // Distance from the camera along its view axis for a depth-buffer value (Vulkan [0, 1]
 // depth, standard perspective).

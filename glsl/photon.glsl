@@ -42,7 +42,7 @@ bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
     vec3 d = normalize(b.xyz / b.w - o);
 
     WaterParams w = frame_water();
-    float t = water_intersect(w, noise_tex, o, d, frame_time());
+    float t = water_intersect(w, noise_tex, o, d, frame_water_phase());
     if (!(t > 0.0)) return false;
     vec3 ps = o + t * d;
     if (!water_covers(w, ps.xz)) return false;
@@ -53,7 +53,7 @@ bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
         vec4 first = texelFetch(light_position, texel, 0);
         if (first.w > 0.0 && dot(first.xyz - o, d) < t - 1e-3) return false;
     }
-    vec3 hg = water_height_grad(w, noise_tex, ps.xz, frame_time());
+    vec3 hg = water_height_grad(w, noise_tex, ps.xz, frame_water_phase());
     vec3 n = water_normal_from_grad(hg.yz);
     float cos_i = dot(-d, n);
     if (cos_i <= 0.0) return false; // the ray meets the back of a steep wave

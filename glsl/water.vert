@@ -16,7 +16,7 @@ void main() {
     ivec2 c = ivec2(quad % CELLS, quad / CELLS) + corner[gl_VertexIndex % 6];
     WaterParams w = frame_water();
     vec2 xz = mix(w.extent_min, w.extent_max, vec2(c) / float(CELLS));
-    vec3 hg = water_height_grad(w, noise_tex, xz, frame_time());
+    vec3 hg = water_height_grad(w, noise_tex, xz, frame_water_phase());
     v_world = vec3(xz.x, w.level + hg.x, xz.y);
     v_normal = water_normal_from_grad(hg.yz);
     gl_Position = frame.camera_view_proj * vec4(v_world, 1.0);

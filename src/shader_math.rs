@@ -145,15 +145,28 @@ fn periodic_gradient_noise(p: Vec2, period: u32, seed: u32) -> (f32, Vec2) {
     (value * 1.4, grad * 1.4)
 }
 
-/// GLSL `water_noise_uv`.
-pub fn water_noise_uv(w: &WaterParams, xz: Vec2, t: f32) -> Vec2 {
-    xz / w.noise_scale + Vec2::new(0.6, 0.8) * (w.speed * t / w.noise_scale)
+/// The water's phase at time `t` (GLSL `phase`, uniforms `water4`): the waves' phase
+/// k·speed·t modulo 2π and the noise's drift (0.6, 0.8)·speed·t / noise_scale modulo 1 tile,
+/// reduced in double precision so the surface keeps its shape at late times.
+pub fn water_phase(w: &WaterParams, t: f32) -> Vec3 {
+    let (t, speed) = (t as f64, w.speed as f64);
+    let k = std::f64::consts::TAU / w.wavelength as f64;
+    let wave = (k * speed * t).rem_euclid(std::f64::consts::TAU);
+    let drift = speed * t / w.noise_scale as f64;
+    Vec3::new(wave as f32, (0.6 * drift).rem_euclid(1.0) as f32, (0.8 * drift).rem_euclid(1.0) as f32)
 }
 
-/// GLSL `water_height_grad`: (height above the mean plane, dh/dx, dh/dz).
+/// GLSL `water_noise_uv`.
+pub fn water_noise_uv(w: &WaterParams, xz: Vec2, t: f32) -> Vec2 {
+    let phase = water_phase(w, t);
+    xz / w.noise_scale + Vec2::new(phase.y, phase.z)
+}
+
+/// GLSL `water_height_grad`: (height above the mean plane, dh/dx, dh/dz). Takes the time;
+/// the GLSL takes the phase `water_phase` computes from it.
 pub fn water_height_grad(w: &WaterParams, noise: &NoiseTexture, xz: Vec2, t: f32) -> Vec3 {
     let k = 2.0 * PI / w.wavelength;
-    let phase_t = glsl_mod(k * w.speed * t, 2.0 * PI);
+    let phase_t = water_phase(w, t).x;
     let mut hg = if w.model == WaterModel::CircularCosine {
         let d = xz - w.center;
         let r = d.length();
@@ -188,18 +201,80 @@ pub fn water_covers(w: &WaterParams, xz: Vec2) -> bool {
     xz.cmpge(w.extent_min).all() && xz.cmple(w.extent_max).all()
 }
 
-/// GLSL `water_intersect`: ray parameter of the hit with the surface, negative for none.
+/// GLSL `WATER_MAX_MARCH_STEPS`, `WATER_REFINE_STEPS` and `WATER_NOISE_FEATURE`.
+pub const WATER_MAX_MARCH_STEPS: u32 = 64;
+pub const WATER_REFINE_STEPS: u32 = 8;
+pub const WATER_NOISE_FEATURE: f32 = 1.0 / 16.0;
+
+/// GLSL `water_height_above_surface`.
+fn water_height_above_surface(w: &WaterParams, noise: &NoiseTexture, o: Vec3, d: Vec3, t: f32, time: f32) -> f32 {
+    let p = o + t * d;
+    p.y - w.level - water_height_grad(w, noise, p.xz(), time).x
+}
+
+/// GLSL `water_intersect`: ray parameter of the hit with the surface, negative for none. A
+/// march through the slab the waves fill, then Illinois regula falsi in the step that
+/// crosses; a result off the surface by more than 1 % of the waves' height is a miss.
 pub fn water_intersect(w: &WaterParams, noise: &NoiseTexture, o: Vec3, d: Vec3, time: f32) -> f32 {
     if d.y >= -1e-6 {
         return -1.0;
     }
-    let mut t = (w.level - o.y) / d.y;
-    for _ in 0..4 {
-        let p = o + t * d;
-        let h = water_height_grad(w, noise, p.xz(), time).x;
-        t = (w.level + h - o.y) / d.y;
+    let bound = w.amplitude.abs() + w.noise_amplitude.abs();
+    let t_top = ((w.level + bound - o.y) / d.y).max(0.0);
+    let t_bottom = (w.level - bound - o.y) / d.y;
+    if t_bottom < t_top {
+        return -1.0;
     }
-    t
+    if bound == 0.0 {
+        return t_bottom;
+    }
+    let f = |t: f32| water_height_above_surface(w, noise, o, d, t, time);
+    let (mut ta, mut fa) = (t_top, f(t_top));
+    if fa <= 0.0 {
+        return ta;
+    }
+    let feature = (if w.amplitude > 0.0 { w.wavelength } else { 1e30 })
+        .min(if w.noise_amplitude > 0.0 { w.noise_scale * WATER_NOISE_FEATURE } else { 1e30 });
+    let horizontal = (t_bottom - t_top) * Vec2::new(d.x, d.z).length();
+    let steps = (4.0 * horizontal / feature).ceil().clamp(8.0, WATER_MAX_MARCH_STEPS as f32) as u32;
+    let dt = (t_bottom - t_top) / steps as f32;
+    let (mut tb, mut fb) = (t_bottom, f(t_bottom));
+    for i in 1..steps {
+        let t = t_top + i as f32 * dt;
+        let ft = f(t);
+        if ft <= 0.0 {
+            (tb, fb) = (t, ft);
+            break;
+        }
+        (ta, fa) = (t, ft);
+    }
+    if fb > 0.0 {
+        return -1.0;
+    }
+    let mut kept = 0;
+    for _ in 0..WATER_REFINE_STEPS {
+        let t = ta + (tb - ta) * fa / (fa - fb);
+        let ft = f(t);
+        if ft > 0.0 {
+            (ta, fa) = (t, ft);
+            if kept == -1 {
+                fb *= 0.5;
+            }
+            kept = -1;
+        } else {
+            (tb, fb) = (t, ft);
+            if kept == 1 {
+                fa *= 0.5;
+            }
+            kept = 1;
+        }
+    }
+    let t = ta + (tb - ta) * fa / (fa - fb);
+    if f(t).abs() <= 0.01 * bound + 1e-4 {
+        t
+    } else {
+        -1.0
+    }
 }
 
 /// GLSL `refract(i, n, eta)`: zero vector on total internal reflection.
@@ -235,7 +310,7 @@ pub fn henyey_greenstein(cos_theta: f32, g: f32) -> f32 {
 pub fn regulated_point_size(d_view: f32, z_near: f32, z_far: f32, s_min: f32, s_max: f32) -> f32 {
     let a = s_max - z_far * (s_max - s_min) / (z_far - z_near);
     let b = z_near * z_far * (s_max - s_min) / (z_far - z_near);
-    a + b / d_view.max(z_near)
+    a + b / d_view.clamp(z_near, z_far)
 }
 
 // ---------------------------------------------------------------------------------------

@@ -31,8 +31,10 @@ pub struct FrameUniforms {
     pub effect1: [f32; 4],
     pub effect2: [f32; 4],
     pub effect3: [f32; 4],
+    /// The water's phase at this time (`shader_math::water_phase`); w unused.
+    pub water4: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 3 * 64 + 14 * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 3 * 64 + 15 * 16);
 
 /// Sizes of the frame's targets and the device limits the shaders clamp to.
 #[derive(Clone, Copy, Debug)]
@@ -245,6 +247,10 @@ impl FrameUniforms {
             effect1: [caustic_photons, godray_photons, e.iterations as f32, extents.light_map as f32],
             effect2: [extents.max_point_size, extents.max_line_width, extents.caustic[0] as f32, extents.caustic[1] as f32],
             effect3: [extents.godray[0] as f32, extents.godray[1] as f32, extents.output[0] as f32, extents.output[1] as f32],
+            water4: {
+                let p = crate::shader_math::water_phase(w, time);
+                [p.x, p.y, p.z, 0.0]
+            },
         }
     }
 }
