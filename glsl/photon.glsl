@@ -61,22 +61,36 @@ bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
     if (dot(rt, rt) == 0.0) return false;
     rt = normalize(rt);
 
-    // Shah's iteration: guess d, project p_s + d·r_t into the light's map, take the stored
-    // receiver's distance from p_s as the next guess. The first guess is the receiver
-    // straight along the unrefracted ray.
+    // Shah's iteration: guess d, project p_s + d·r_t into the light's map, and take the stored
+    // receiver's distance F(d) from p_s as the next guess. The first guess assumes the
+    // receiver lies as deep below p_s as the one straight along the unrefracted ray (Shah
+    // takes that one's distance, which at a low sun is several times too far, and its
+    // map position may hold nothing). Shah's update d ← F(d) is a fixed-point iteration;
+    // it diverges where |F'| > 1, which for a horizontal receiver happens once the sun is
+    // below about 18° (F' = 1 − cos θt·cos(θi − θt)/sin e). From the second step on, the
+    // update is therefore a secant step on the same residual g(d) = F(d) − d, which uses the
+    // same one map fetch per step and converges there too. Where g is constant across a map
+    // texel the secant step equals Shah's.
     float dist = 1.0;
     if (light_texel(ps, texel)) {
         vec4 below = texelFetch(light_position, texel, 0);
-        if (below.w > 0.0) dist = max(length(below.xyz - ps), 1e-3);
+        float depth = ps.y - below.y;
+        if (below.w > 0.0) dist = depth > 1e-3 ? depth / max(-rt.y, 1e-3) : max(length(below.xyz - ps), 1e-3);
     }
-    vec3 receiver = vec3(0.0);
+    float prev_dist = 0.0, prev_g = 0.0;
+    bool have_prev = false;
     int iterations = int(frame.effect1.z);
     for (int i = 0; i < iterations; ++i) {
         if (!light_texel(ps + dist * rt, texel)) return false;      // left the map
         vec4 r = texelFetch(light_position, texel, 0);
         if (r.w <= 0.0) return false;                               // nothing there
-        receiver = r.xyz;
-        dist = length(receiver - ps);
+        float g = length(r.xyz - ps) - dist;
+        float next = dist + g;
+        if (have_prev && abs(g - prev_g) > 1e-6 * max(dist, 1.0)) {
+            next = dist - g * (dist - prev_dist) / (g - prev_g);
+        }
+        prev_dist = dist; prev_g = g; have_prev = true;
+        dist = max(next, 1e-3);
     }
     vec3 hit = ps + dist * rt;
     // Converged when the estimate lands where the map says the receiver is: within a few

@@ -273,6 +273,9 @@ fn render_scene(cli: &Cli, args: &SceneArgs) -> Result<i32> {
     let extent = vk::Extent2D { width, height };
     let (timings, images) = {
         let mut renderer = headless::SceneRenderer::new(&ctx.device, &scene, extent)?;
+        for note in &renderer.frame.clamped {
+            eprintln!("warning: {note}");
+        }
         let e = renderer.frame.extents;
         println!(
             "scene {:?}: {width}×{height}; caustics {}² × {}² photons into {}×{}; light maps {}²",

@@ -411,17 +411,31 @@ impl PhotonCaster<'_> {
         let mut dist = 1.0;
         if let Some(texel) = self.light_texel(ps) {
             let below = self.receiver(texel);
+            let depth = ps.y - below[1];
             if below[3] > 0.0 {
-                dist = (Vec3::new(below[0], below[1], below[2]) - ps).length().max(1e-3);
+                dist = if depth > 1e-3 {
+                    depth / (-rt.y).max(1e-3)
+                } else {
+                    (Vec3::new(below[0], below[1], below[2]) - ps).length().max(1e-3)
+                };
             }
         }
+        let mut previous: Option<(f32, f32)> = None;
         for _ in 0..u.effect1[2] as i32 {
             let texel = self.light_texel(ps + dist * rt)?;
             let r = self.receiver(texel);
             if r[3] <= 0.0 {
                 return None;
             }
-            dist = (Vec3::new(r[0], r[1], r[2]) - ps).length();
+            let g = (Vec3::new(r[0], r[1], r[2]) - ps).length() - dist;
+            let mut next = dist + g;
+            if let Some((d0, g0)) = previous {
+                if (g - g0).abs() > 1e-6 * dist.max(1.0) {
+                    next = dist - g * (dist - d0) / (g - g0);
+                }
+            }
+            previous = Some((dist, g));
+            dist = next.max(1e-3);
         }
         let hit = ps + dist * rt;
         let texel = self.light_texel(hit)?;

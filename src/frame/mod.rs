@@ -65,11 +65,23 @@ impl FramePlan {
     pub fn for_scene(scene: &Scene) -> Self {
         let level = scene.water.level;
         let below = scene.meshes.iter().any(|m| m.positions.iter().any(|p| p.y < level));
-        let caustics = scene.effects.caustics && below;
+        // The method casts photons into the water through its surface from above; a point
+        // light below the lowest trough has no photon that does.
+        let trough = level - scene.water.amplitude.abs() - scene.water.noise_amplitude.abs();
+        let light_under = scene.light.kind == crate::scene::LightKind::Point && scene.light.position.y < trough;
+        let light_under_why = || {
+            format!(
+                "the point light is under the water (y = {} m, below the lowest trough at {trough} m): photons enter through the surface from above",
+                scene.light.position.y
+            )
+        };
+        let caustics = scene.effects.caustics && below && !light_under;
         let caustics_why = if !scene.effects.caustics {
             "off in the scene's effects".to_string()
         } else if !below {
             format!("no receiver lies below the water level ({level} m)")
+        } else if light_under {
+            light_under_why()
         } else {
             format!(
                 "receivers below the water; {}² cells × {}² photons into {:.0}% of the output",
@@ -79,9 +91,11 @@ impl FramePlan {
             )
         };
         let scatters = scene.medium.scattering > 0.0;
-        let godrays = scene.effects.godrays && scatters && below;
+        let godrays = scene.effects.godrays && scatters && below && !light_under;
         let godrays_why = if !scene.effects.godrays {
             "off in the scene's effects".to_string()
+        } else if light_under {
+            light_under_why()
         } else if !scatters {
             "the medium does not scatter (scattering = 0)".to_string()
         } else if !below {
@@ -158,6 +172,32 @@ pub fn frame_extents(scene: &Scene, output: vk::Extent2D, device: &Device) -> Fr
     }
 }
 
+/// What the device cannot draw as the scene asks: splats larger than its largest point are
+/// drawn at that size, lines wider than its widest line at that width (and narrower than
+/// 1 px at 1 px). One line per setting.
+pub fn device_clamps(scene: &Scene, plan: &FramePlan, device: &Device) -> Vec<String> {
+    let limits = device.limits();
+    let e = &scene.effects;
+    let mut notes = Vec::new();
+    let [_, max_point] = limits.point_size_range;
+    if plan.runs(PassId::Caustics) {
+        for (name, v) in [("point_size_min", e.point_size_min), ("point_size_max", e.point_size_max)] {
+            if v > max_point {
+                notes.push(format!("effects.{name} = {v} px exceeds the device's largest point ({max_point} px): splats are drawn at {max_point} px"));
+            }
+        }
+    }
+    let [lo, hi] = limits.line_width_range;
+    if plan.runs(PassId::Godrays) {
+        if e.line_width > hi {
+            notes.push(format!("effects.line_width = {} px exceeds the device's widest line ({hi} px): godray lines are drawn {hi} px wide", e.line_width));
+        } else if e.line_width < lo.max(1.0) {
+            notes.push(format!("effects.line_width = {} px is below {} px: godray lines are drawn {} px wide", e.line_width, lo.max(1.0), lo.max(1.0)));
+        }
+    }
+    notes
+}
+
 /// Switches that change what a frame records, for tests and debugging.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct FrameOptions {
@@ -178,6 +218,9 @@ pub const GODRAY_FILTER_RADIUS_PX: f32 = 1.5;
 pub struct Frame {
     pub plan: FramePlan,
     pub extents: FrameExtents,
+    /// Settings the device cannot honour and what is drawn instead (point sizes and line
+    /// widths beyond its ranges), for the user to be told.
+    pub clamped: Vec<String>,
     scene: Scene,
     /// The scene's bounds, for the light frustum each frame.
     bounds: (glam::Vec3, glam::Vec3),
@@ -210,6 +253,7 @@ impl Frame {
     ) -> Result<Self> {
         let plan = FramePlan::for_scene(scene);
         let extents = frame_extents(scene, output, device);
+        let clamped = device_clamps(scene, &plan, device);
         let mut uniforms = Vec::with_capacity(FRAMES_IN_FLIGHT);
         for i in 0..FRAMES_IN_FLIGHT {
             uniforms.push(Buffer::new(
@@ -324,6 +368,7 @@ impl Frame {
         Ok(Self {
             plan,
             extents,
+            clamped,
             scene: scene.clone(),
             bounds: scene.bounds(),
             shadow,

@@ -1,0 +1,316 @@
+//! The frame at the extremes of its parameters, on lavapipe under validation: sun from
+//! grazing to straight down, water from flat to violent and late in time, the medium's
+//! limits, the camera at and around the waterline with extreme projections, the smallest
+//! grids and targets, sizes beyond the device's limits, and a point light in and under the
+//! water. Every scenario must read back no NaN or Inf in any target and leave no validation
+//! message. Where the camera sees the floor square-on, the caustic flux on it must not exceed
+//! the flux that enters the water. Near an edge, the result must move continuously with the
+//! parameter.
+
+mod common;
+
+use common::*;
+use glam::Vec3;
+use underlight::frame::uniforms::{directional_irradiance, surface_irradiance};
+use underlight::headless::{SceneImages, SceneRenderer};
+use underlight::image_io::HdrImage;
+use underlight::scene::{LightKind, Scene};
+use underlight::shader_math::fresnel_transmittance;
+use underlight::vk::Context;
+use ash::vk;
+
+/// Renders one frame of `scene` at `time` and checks every read-back target is finite.
+fn render(ctx: &Context, scene: &Scene, time: f32, label: &str) -> SceneImages {
+    let out = vk::Extent2D { width: scene.output[0], height: scene.output[1] };
+    let mut r = SceneRenderer::new(&ctx.device, scene, out).unwrap_or_else(|e| panic!("{label}: {e:#}"));
+    let (_, images) = r.render(1, time, 0.0, true).unwrap_or_else(|e| panic!("{label}: {e:#}"));
+    let images = images.unwrap();
+    let named: [(&str, Option<&HdrImage>); 6] = [
+        ("scene colour", Some(&images.scene_color)),
+        ("albedo × transmittance", Some(&images.albedo_transmittance)),
+        ("caustics", images.caustics.as_ref()),
+        ("filtered caustics", images.caustics_filtered.as_ref()),
+        ("godrays", images.godrays.as_ref()),
+        ("filtered godrays", images.godrays_filtered.as_ref()),
+    ];
+    for (name, img) in named {
+        if let Some(img) = img {
+            assert!(!img.has_non_finite(), "{label}: NaN or Inf in the {name} buffer");
+        }
+    }
+    images
+}
+
+/// The pool seen square-on from just under the water, with a wide lens that takes in most of
+/// the floor: every caustic pixel covers the same floor area, so the buffer sums to a flux.
+fn overview(amplitude: f32) -> Scene {
+    let mut s = pool(amplitude);
+    s.camera.position = Vec3::new(0.0, -0.1, 0.0);
+    s.camera.look_at = Vec3::new(0.0, -FLOOR_DEPTH, 0.0);
+    s.camera.fov_y_degrees = 120.0;
+    s.output = [64, 64];
+    s.effects.caustic_grid = 96;
+    s.effects.godray_grid = 16;
+    s.effects.shadow_map_size = 256;
+    s
+}
+
+/// Caustic flux on the floor in view, W: Σ E · (pixel's floor area) over the caustic buffer.
+fn floor_flux_in_view(scene: &Scene, caustics: &HdrImage) -> f64 {
+    let h = (scene.camera.position.y + FLOOR_DEPTH) as f64;
+    let side = 2.0 * (scene.camera.fov_y_degrees as f64 / 2.0).to_radians().tan() * h / caustics.height as f64;
+    caustics.channel_sums()[0] * side * side
+}
+
+/// The flux that enters the pool's 12 × 12 m water, W (before attenuation): E⊥ · |d_y| ·
+/// area · T for a directional light; for a point light, the intensity over the water's solid
+/// angle (numerically), times T ≤ 1.
+fn flux_into_water(scene: &Scene) -> f64 {
+    let (lo, hi) = (scene.water.extent_min, scene.water.extent_max);
+    let area = ((hi.x - lo.x) * (hi.y - lo.y)) as f64;
+    match scene.light.kind {
+        LightKind::Directional => {
+            let d = scene.light.direction;
+            let t = fresnel_transmittance(-d.y, scene.water.ior) as f64;
+            directional_irradiance(scene) as f64 * (-d.y as f64) * area * t
+        }
+        LightKind::Point => {
+            let n = 200;
+            let p = scene.light.position;
+            let cell = area / (n * n) as f64;
+            let mut flux = 0.0;
+            for j in 0..n {
+                for i in 0..n {
+                    let x = lo.x + (hi.x - lo.x) * (i as f32 + 0.5) / n as f32;
+                    let z = lo.y + (hi.y - lo.y) * (j as f32 + 0.5) / n as f32;
+                    let v = Vec3::new(x, scene.water.level, z) - p;
+                    let r2 = v.length_squared() as f64;
+                    flux += scene.light.intensity as f64 * (-v.y as f64 / r2.sqrt()).max(0.0) / r2 * cell;
+                }
+            }
+            flux
+        }
+    }
+}
+
+/// Renders an overview scene, checks the flux bound, and returns the flux on the floor.
+fn overview_flux(ctx: &Context, scene: &Scene, time: f32, label: &str) -> f64 {
+    let images = render(ctx, scene, time, label);
+    let caustics = images.caustics.unwrap_or_else(|| panic!("{label}: no caustics"));
+    let on_floor = floor_flux_in_view(scene, &caustics);
+    let entering = flux_into_water(scene);
+    eprintln!("{label}: caustic flux in view {on_floor:.3} W of {entering:.3} W entering the water");
+    assert!(on_floor <= entering, "{label}: {on_floor} W on the floor in view, more than the {entering} W entering the water");
+    on_floor
+}
+
+fn sun(elevation_deg: f32, azimuth_deg: f32) -> Vec3 {
+    let (e, a) = (elevation_deg.to_radians(), azimuth_deg.to_radians());
+    Vec3::new(e.cos() * a.cos(), -e.sin(), e.cos() * a.sin())
+}
+
+#[test]
+fn sun_from_grazing_to_straight_down() {
+    let ctx = validated_context();
+    let mut fluxes = Vec::new();
+    for elevation in [90.0f32, 60.0, 40.0, 30.0, 20.0, 10.0, 5.0, 1.0] {
+        let mut s = overview(0.0);
+        // Exactly straight down (the light's look-at has no horizontal part) at 90°.
+        s.light.direction = if elevation == 90.0 { Vec3::NEG_Y } else { sun(elevation, 30.0) };
+        let flux = overview_flux(&ctx, &s, 0.0, &format!("sun at {elevation}°"));
+        fluxes.push((elevation, flux, flux_into_water(&s)));
+    }
+    assert_clean_shutdown(ctx);
+    // Flat water: the share of the entering flux that reaches the floor in view changes
+    // smoothly with the elevation (refraction shifts the lit area, the path lengthens): no
+    // jump to black or to white between neighbours, down to 20°. Below that the image-space
+    // iteration's convergence test rejects most photons: the light map's texels stretch
+    // along the floor by 1/sin e, so a converged hit lies further from its texel's stored
+    // receiver than the test allows (docs/limits.md; issue 7 stays open on it). Those
+    // elevations are held to the checks above: finite, clean, within the flux bound.
+    let down_to_20: Vec<_> = fluxes.iter().copied().filter(|f| f.0 >= 20.0).collect();
+    for pair in down_to_20.windows(2) {
+        let ((e0, f0, in0), (e1, f1, in1)) = (pair[0], pair[1]);
+        let (s0, s1) = (f0 / in0, f1 / in1);
+        assert!(s1 > 0.0, "nothing reaches the floor at {e1}°");
+        assert!((s1 / s0 - 1.0).abs() < 0.35, "share of the entering flux jumps from {s0:.3} at {e0}° to {s1:.3} at {e1}°");
+    }
+}
+
+#[test]
+fn water_from_flat_to_violent_and_late() {
+    let ctx = validated_context();
+    let flat = overview_flux(&ctx, &overview(0.0), 0.0, "flat");
+    let tiny = overview_flux(&ctx, &overview(1e-5), 0.0, "amplitude 10 µm");
+    // A ripple of 10 µm is flat water to within the splats' noise.
+    assert!((tiny / flat - 1.0).abs() < 0.01, "10 µm waves change the flux by {:.2} %", 100.0 * (tiny / flat - 1.0));
+    let mut violent = overview(0.3);
+    violent.water.wavelength = 0.5; // slope A·k ≈ 3.8: far steeper than real water
+    overview_flux(&ctx, &violent, 0.7, "violent");
+    let mut short = overview(0.002);
+    short.water.wavelength = 0.01;
+    overview_flux(&ctx, &short, 0.0, "1 cm wavelength");
+    let mut long = overview(0.5);
+    long.water.wavelength = 1000.0;
+    overview_flux(&ctx, &long, 0.0, "1 km wavelength");
+    // A day and a half in: the animation keeps its precision, so one frame later the
+    // pattern has moved a little, not jumped.
+    let mut late = overview(0.04);
+    late.water.noise_amplitude = 0.02;
+    let t = 1.0e5f32;
+    let a = render(&ctx, &late, t, "late").caustics.unwrap();
+    let b = render(&ctx, &late, t + 1.0 / 60.0, "late + 1 frame").caustics.unwrap();
+    let early = render(&ctx, &late, 0.0, "early").caustics.unwrap();
+    let early_next = render(&ctx, &late, 1.0 / 60.0, "early + 1 frame").caustics.unwrap();
+    let change = |x: &HdrImage, y: &HdrImage| underlight::bench::buffer_difference(x, y).unwrap().relative_l1;
+    let (late_change, early_change) = (change(&a, &b), change(&early, &early_next));
+    eprintln!("frame-to-frame change: {early_change:.3} at t = 0, {late_change:.3} at t = {t}");
+    assert!(late_change < 3.0 * early_change + 0.05, "late frames flicker: {late_change} against {early_change} at t = 0");
+    assert_clean_shutdown(ctx);
+}
+
+#[test]
+fn medium_at_its_limits() {
+    let ctx = validated_context();
+    let mut clear = overview(0.04);
+    clear.medium.gamma = Vec3::ZERO;
+    let clear_flux = overview_flux(&ctx, &clear, 0.0, "γ = 0");
+    assert!(clear_flux > 0.0);
+    let mut murky = overview(0.04);
+    murky.medium.gamma = Vec3::splat(50.0);
+    let murky_flux = overview_flux(&ctx, &murky, 0.0, "γ = 50 /m");
+    assert!(murky_flux < 1e-6 * clear_flux, "2 m of γ = 50 /m water lets {murky_flux} W through");
+    let mut godray_means = Vec::new();
+    for g in [-0.99f32, 0.0, 0.98, 0.99] {
+        let mut s = pool(0.04);
+        s.output = [48, 48];
+        s.camera.position = Vec3::new(-2.0, -1.0, 0.0);
+        s.camera.look_at = Vec3::new(2.0, -1.2, 0.3);
+        s.medium.hg_g = g;
+        s.effects.godray_grid = 24;
+        s.effects.caustic_grid = 48;
+        let images = render(&ctx, &s, 0.0, &format!("g = {g}"));
+        godray_means.push(images.godrays.unwrap().channel_sums()[0]);
+    }
+    let mut no_scatter = pool(0.04);
+    no_scatter.medium.scattering = 0.0;
+    let images = render(&ctx, &no_scatter, 0.0, "σs = 0");
+    assert!(images.godrays.is_none(), "a medium that does not scatter still draws godrays");
+    assert_clean_shutdown(ctx);
+    eprintln!("godray sums for g = -0.99, 0, 0.98, 0.99: {godray_means:?}");
+    assert!(godray_means.iter().all(|m| *m > 0.0));
+    // Away from the forward peak the phase function scales with (1 − g²), which halves from
+    // g = 0.98 to 0.99 (ratio 0.503): the godrays must follow that, not jump.
+    let (g98, g99) = (godray_means[2], godray_means[3]);
+    let expected = (1.0 - 0.99f64 * 0.99) / (1.0 - 0.98 * 0.98);
+    assert!((g99 / g98 / expected - 1.0).abs() < 0.3, "godrays from g = 0.98 to 0.99: ×{} (expected about ×{expected:.3})", g99 / g98);
+}
+
+#[test]
+fn camera_at_and_around_the_waterline() {
+    let ctx = validated_context();
+    let cameras: [(&str, Vec3, Vec3); 6] = [
+        ("at the water plane", Vec3::new(-3.0, 0.0, 0.0), Vec3::new(3.0, -0.5, 0.0)),
+        ("1 cm above", Vec3::new(-3.0, 0.01, 0.0), Vec3::new(3.0, -0.5, 0.0)),
+        ("1 cm below", Vec3::new(-3.0, -0.01, 0.0), Vec3::new(3.0, -0.5, 0.0)),
+        ("above, looking down", Vec3::new(0.0, 3.0, 0.5), Vec3::new(0.0, -FLOOR_DEPTH, 0.0)),
+        ("far below the floor", Vec3::new(0.0, -50.0, 0.0), Vec3::new(0.0, 0.0, 0.1)),
+        ("on the floor, looking up", Vec3::new(1.0, -FLOOR_DEPTH + 1e-3, 0.0), Vec3::new(1.0, 0.0, 0.0)),
+    ];
+    for (label, position, look_at) in cameras {
+        let mut s = pool(0.04);
+        s.water.noise_amplitude = 0.02;
+        s.output = [48, 48];
+        s.effects.caustic_grid = 48;
+        s.effects.godray_grid = 16;
+        s.camera.position = position;
+        s.camera.look_at = look_at;
+        s.camera.z_far = 100.0;
+        render(&ctx, &s, 0.5, label);
+    }
+    let projections: [(&str, f32, f32, f32); 4] = [
+        ("z_near 10 µm", 1e-5, 10.0, 60.0),
+        ("z_far 1000 km", 0.05, 1e6, 60.0),
+        ("fov 0.01°", 0.05, 10.0, 0.01),
+        ("fov 179.9°", 0.05, 10.0, 179.9),
+    ];
+    for (label, near, far, fov) in projections {
+        let mut s = pool(0.04);
+        s.output = [48, 48];
+        s.effects.caustic_grid = 48;
+        s.camera.z_near = near;
+        s.camera.z_far = far;
+        s.camera.fov_y_degrees = fov;
+        render(&ctx, &s, 0.0, label);
+    }
+    assert_clean_shutdown(ctx);
+}
+
+#[test]
+fn smallest_grids_and_targets_and_sizes_beyond_the_device() {
+    let ctx = validated_context();
+    let mut one = overview(0.04);
+    one.effects.caustic_grid = 1;
+    one.effects.caustic_subdivision = 1;
+    one.effects.godray_grid = 1;
+    one.effects.godray_subdivision = 1;
+    overview_flux(&ctx, &one, 0.0, "1×1 photon grids");
+    let mut most = overview(0.04);
+    most.effects.caustic_grid = 12;
+    most.effects.caustic_subdivision = underlight::shader_math::MAX_SUBDIVISION;
+    most.effects.godray_grid = 8;
+    most.effects.godray_subdivision = underlight::shader_math::GODRAY_MAX_SUBDIVISION;
+    overview_flux(&ctx, &most, 0.0, "subdivision at the geometry shaders' output limits");
+    let mut pixel = pool(0.04);
+    pixel.output = [1, 1];
+    pixel.effects.caustic_grid = 16;
+    render(&ctx, &pixel, 0.0, "1×1 output");
+    let mut large_targets = pool(0.04);
+    large_targets.output = [32, 32];
+    large_targets.effects.caustic_target_scale = 4.0;
+    large_targets.effects.godray_target_scale = 4.0;
+    large_targets.effects.caustic_grid = 32;
+    render(&ctx, &large_targets, 0.0, "effect targets 4× the output");
+
+    let limits = *ctx.device.limits();
+    let mut huge = overview(0.04);
+    huge.effects.point_size_min = 2.0 * limits.point_size_range[1];
+    huge.effects.point_size_max = 4.0 * limits.point_size_range[1];
+    huge.effects.line_width = 4.0 * limits.line_width_range[1];
+    overview_flux(&ctx, &huge, 0.0, "point sizes and line width beyond the device's");
+    let plan = underlight::frame::FramePlan::for_scene(&huge);
+    let notes = underlight::frame::device_clamps(&huge, &plan, &ctx.device);
+    assert_eq!(notes.len(), 3, "each clamped setting is reported: {notes:?}");
+    assert!(notes[0].contains("effects.point_size_min") && notes[2].contains("effects.line_width"), "{notes:?}");
+    assert_clean_shutdown(ctx);
+}
+
+#[test]
+fn point_light_above_in_and_under_the_water() {
+    let ctx = validated_context();
+    let mut fluxes = Vec::new();
+    for (label, y) in [("1 m above", 1.0f32), ("in the waves", 0.01), ("under the water", -0.5)] {
+        let mut s = overview(0.04);
+        s.light.kind = LightKind::Point;
+        s.light.position = Vec3::new(0.3, y, 0.2);
+        s.light.intensity = 9.2;
+        assert!(surface_irradiance(&s).is_finite());
+        let images = render(&ctx, &s, 0.0, label);
+        match images.caustics {
+            Some(c) => {
+                let on_floor = floor_flux_in_view(&s, &c);
+                let entering = flux_into_water(&s);
+                eprintln!("point light {label}: {on_floor:.3} W in view of {entering:.3} W");
+                assert!(on_floor <= entering, "point light {label}: {on_floor} W in view, {entering} W entering");
+                fluxes.push(on_floor);
+            }
+            None => {
+                assert!(y < 0.0, "a point light {label} draws no caustics");
+                let plan = underlight::frame::FramePlan::for_scene(&s);
+                assert!(plan.to_string().contains("under the water"), "{plan}");
+            }
+        }
+    }
+    assert_clean_shutdown(ctx);
+    assert!(fluxes.iter().all(|f| *f > 0.0), "{fluxes:?}");
+}
