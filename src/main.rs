@@ -234,11 +234,18 @@ fn run(cli: Cli) -> Result<i32> {
 
 /// Creates the parent folder of each output path up front, so a bad path fails before any
 /// GPU work.
+/// Makes the outputs' folders and checks each output can be written there, before any
+/// rendering: a wrong path fails in a second, not after the frames, and leaves nothing behind.
 fn prepare_outputs<'a>(paths: impl IntoIterator<Item = &'a PathBuf>) -> Result<()> {
     for path in paths {
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+        if path.is_dir() {
+            bail!("output {} is a directory: give a file name", path.display());
         }
+        let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
+        std::fs::create_dir_all(dir).with_context(|| format!("output {}: cannot create {}", path.display(), dir.display()))?;
+        let probe = dir.join(format!(".underlight-write-check-{}", std::process::id()));
+        std::fs::write(&probe, b"").with_context(|| format!("output {}: cannot write in {}", path.display(), dir.display()))?;
+        std::fs::remove_file(&probe).ok();
     }
     Ok(())
 }

@@ -1,0 +1,32 @@
+//! Bad command lines get a clear error and a non-zero exit before anything is rendered.
+
+use std::process::Command;
+
+fn run(args: &[&str]) -> (i32, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_underlight")).args(args).output().unwrap();
+    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+#[test]
+fn bad_command_lines_are_named_errors() {
+    let dir = std::env::temp_dir().join(format!("underlight-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (vec!["render".into(), "--scene".into(), "lagoon".into()], "tank, port, storage"),
+        (vec!["render".into(), "--out".into(), "/proc/underlight.png".into()], "cannot"),
+        (vec!["render".into(), "--out".into(), dir.display().to_string()], "is a directory"),
+        (vec!["render".into(), "--width".into(), "0".into()], "at least 1"),
+        (vec!["bench".into(), "--config".into(), "paper-9000".into()], "unknown"),
+        (vec!["bench".into(), "--config".into(), "tiny".into(), "--frames".into(), "0".into()], "at least 1"),
+        (vec!["render".into(), "--frobnicate".into()], "--frobnicate"),
+    ];
+    for (args, expected) in cases {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let (code, stderr) = run(&args);
+        assert_ne!(code, 0, "{args:?} succeeded");
+        assert!(!stderr.contains("panicked"), "{args:?} panicked:\n{stderr}");
+        assert!(stderr.contains(expected), "{args:?}: the error does not say {expected:?}:\n{stderr}");
+    }
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0, "a failed command left files behind");
+    std::fs::remove_dir_all(&dir).ok();
+}
