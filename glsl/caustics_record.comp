@@ -3,6 +3,7 @@
 // (clip position, irradiance, size, view depth; dropped photons as a clipped point), so
 // splat_floor.vert can draw the same points of the same sizes with no photon math.
 #include "caustic_splat.glsl"
+#include "photon_dispatch.glsl"
 
 layout(local_size_x = 64) in;
 layout(constant_id = 0) const uint SUBDIVISION = 2;
@@ -18,7 +19,7 @@ layout(set = 0, binding = BINDING_SPLAT_RECORDS, std430) writeonly buffer SplatR
 };
 
 void main() {
-    uint index = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
+    uint index = photon_invocation_index();
     if (index >= pc.grid * pc.grid * SUBDIVISION * SUBDIVISION) return;
     Photon ph;
     CausticSplat splat;

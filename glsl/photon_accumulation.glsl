@@ -5,6 +5,7 @@
 #define UNDERLIGHT_PHOTON_ACCUMULATION_GLSL
 #extension GL_EXT_shader_atomic_float : require
 #include "frame_textures.glsl"
+#include "photon_dispatch.glsl"
 
 layout(set = 0, binding = BINDING_PHOTON_ACCUMULATION, std430) buffer PhotonAccumulation {
     float accumulation[];
@@ -17,11 +18,5 @@ void accumulate(ivec2 p, int width, vec4 v) {
     atomicAdd(accumulation[base + 1u], v.g);
     atomicAdd(accumulation[base + 2u], v.b);
     atomicAdd(accumulation[base + 3u], v.a);
-}
-
-// This invocation's photon. Dispatches wider than the device's group-count limit use a
-// second dimension of rows of gl_NumWorkGroups.x groups.
-uint photon_invocation_index() {
-    return gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
 }
 #endif

@@ -87,7 +87,7 @@ impl CausticsPass {
             });
         }
         if path == PhotonPath::Compute {
-            require_float_atomics(device, "caustics")?;
+            require_float_atomics(device)?;
         }
         let photons = (grid as u64 * subdivision as u64).pow(2);
         // Each path binds what its shaders read besides the frame's textures.

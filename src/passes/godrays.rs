@@ -56,7 +56,7 @@ impl GodraysPass {
     ) -> Result<Self> {
         let path = if path == PhotonPath::SplatFloor { PhotonPath::GeometryShader } else { path };
         if path == PhotonPath::Compute {
-            require_float_atomics(device, "godrays")?;
+            require_float_atomics(device)?;
         }
         if subdivision == 0 || subdivision > GODRAY_MAX_SUBDIVISION {
             return Err(Error::InvalidParameter {

@@ -26,17 +26,14 @@ pub fn dispatch_per_photon(device: &Device, cmd: vk::CommandBuffer, photons: u64
     unsafe { device.raw.cmd_dispatch(cmd, x as u32, y as u32, 1) };
 }
 
-/// The device must add floats atomically into storage buffers.
-pub fn require_float_atomics(device: &Device, pass: &str) -> Result<()> {
+/// The device must add floats atomically into storage buffers (the compute photon path).
+pub fn require_float_atomics(device: &Device) -> Result<()> {
     if device.has_float_atomics() {
         return Ok(());
     }
     Err(Error::MissingFeatures {
         device: device.info.name.clone(),
-        missing: vec![match pass {
-            "godrays" => "shaderBufferFloat32AtomicAdd (VK_EXT_shader_atomic_float), for the compute godray path",
-            _ => "shaderBufferFloat32AtomicAdd (VK_EXT_shader_atomic_float), for the compute caustic path",
-        }],
+        missing: vec!["shaderBufferFloat32AtomicAdd (VK_EXT_shader_atomic_float), for the compute photon path"],
     })
 }
 

@@ -127,18 +127,33 @@ fn shader_module(device: &Device, name: &str) -> Result<vk::ShaderModule> {
 }
 
 impl Pipeline {
+    /// A pipeline with its layout and no pipeline yet: it owns the layout from here, so an
+    /// early return while creating the pipeline destroys it.
+    fn with_layout(
+        device: &Arc<Device>,
+        name: &str,
+        set_layouts: &[vk::DescriptorSetLayout],
+        push_constant_bytes: u32,
+        bind_point: vk::PipelineBindPoint,
+    ) -> Result<Self> {
+        let push_stages = if bind_point == vk::PipelineBindPoint::COMPUTE {
+            vk::ShaderStageFlags::COMPUTE
+        } else {
+            vk::ShaderStageFlags::ALL_GRAPHICS
+        };
+        let layout = pipeline_layout(device, name, set_layouts, push_constant_bytes, push_stages)?;
+        Ok(Self { raw: vk::Pipeline::null(), layout, bind_point, push_stages, device: device.clone() })
+    }
+
     pub fn graphics(device: &Arc<Device>, desc: &GraphicsPipelineDesc<'_>) -> Result<Self> {
         let raw_dev = &device.raw;
-        let push_stages = vk::ShaderStageFlags::ALL_GRAPHICS;
-        let layout = pipeline_layout(device, desc.name, desc.set_layouts, desc.push_constant_bytes, push_stages)?;
-        // Owns the layout from here, so an early return destroys it.
-        let mut pipeline = Self {
-            raw: vk::Pipeline::null(),
-            layout,
-            bind_point: vk::PipelineBindPoint::GRAPHICS,
-            push_stages,
-            device: device.clone(),
-        };
+        let mut pipeline = Self::with_layout(
+            device,
+            desc.name,
+            desc.set_layouts,
+            desc.push_constant_bytes,
+            vk::PipelineBindPoint::GRAPHICS,
+        )?;
 
         let mut stages_named = vec![(vk::ShaderStageFlags::VERTEX, desc.vertex)];
         if let Some(g) = desc.geometry {
@@ -232,7 +247,7 @@ impl Pipeline {
             .depth_stencil_state(&depth)
             .color_blend_state(&blend)
             .dynamic_state(&dynamic)
-            .layout(layout)
+            .layout(pipeline.layout)
             .render_pass(desc.render_pass)
             .subpass(0);
         let created =
@@ -246,15 +261,14 @@ impl Pipeline {
     }
 
     pub fn compute(device: &Arc<Device>, desc: &ComputePipelineDesc<'_>) -> Result<Self> {
-        let push_stages = vk::ShaderStageFlags::COMPUTE;
-        let layout = pipeline_layout(device, desc.name, desc.set_layouts, desc.push_constant_bytes, push_stages)?;
-        let mut pipeline = Self {
-            raw: vk::Pipeline::null(),
-            layout,
-            bind_point: vk::PipelineBindPoint::COMPUTE,
-            push_stages,
-            device: device.clone(),
-        };
+        let mut pipeline = Self::with_layout(
+            device,
+            desc.name,
+            desc.set_layouts,
+            desc.push_constant_bytes,
+            vk::PipelineBindPoint::COMPUTE,
+        )?;
+        let layout = pipeline.layout;
         let module = shader_module(device, desc.shader)?;
         let (spec_entries, spec_data) = specialization_data(desc.specialization);
         let spec = vk::SpecializationInfo::default().map_entries(&spec_entries).data(&spec_data);
