@@ -4,8 +4,6 @@
 #define UNDERLIGHT_CAUSTIC_SPLAT_GLSL
 #include "photon.glsl"
 
-layout(set = 0, binding = BINDING_LIGHT_NORMAL) uniform sampler2D light_normal;
-
 struct CausticSplat {
     vec4 clip;        // camera clip position of the hit
     float size;       // point size, whole pixels
@@ -41,7 +39,7 @@ bool caustic_splat(Photon ph, out CausticSplat s) {
     float area = size * size * pixel_world_area(d_view, cos_view, cos_axis, frame.effect2.w);
     vec3 flux = ph.flux * exp(-frame.gamma.rgb * ph.travelled);
     s.size = size;
-    // Stored relative to the surface irradiance so half floats keep their precision whatever
+    // Stored relative to the surface irradiance, so the buffer's values sit near 1 whatever
     // the light's strength (compose multiplies it back).
     s.irradiance = vec4(flux / (area * frame.light_flux.x), 1.0);
     return true;

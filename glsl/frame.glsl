@@ -11,7 +11,7 @@ layout(set = 0, binding = 0, std140) uniform FrameUniforms {
     vec4 camera_pos;       // xyz; w = time, s
     vec4 camera_params;    // z_near, z_far, tan(fov_y / 2), aspect
     vec4 light_pos;        // xyz; w = 0 directional, 1 point
-    vec4 light_dir;        // xyz: directional travel direction / point light axis; w unused
+    vec4 light_dir;        // xyz: directional travel direction / point light axis; w: height of the scene's lowest point, m
     vec4 light_flux;       // x: E_surface, W/m² (the caustic buffer stores irradiance / E_surface, see docs/units.md); y: E_perp W/m² (directional) or I W/sr (point); zw: half sizes of the orthographic window, m (directional) or tan of the half angles (point)
     vec4 water0;           // level, amplitude, wavelength, speed
     vec4 water1;           // noise_amplitude, noise_scale, ior, model

@@ -9,6 +9,7 @@
 
 layout(set = 0, binding = BINDING_NOISE) uniform sampler2D noise_tex;
 layout(set = 0, binding = BINDING_LIGHT_POSITION) uniform sampler2D light_position;
+layout(set = 0, binding = BINDING_LIGHT_NORMAL) uniform sampler2D light_normal;
 
 struct Photon {
     vec3 surface;     // p_s: where it enters the water
@@ -27,6 +28,28 @@ bool light_texel(vec3 p, out ivec2 texel) {
     if (any(lessThan(uv, vec2(0.0))) || any(greaterThanEqual(uv, vec2(1.0)))) return false;
     texel = ivec2(uv * frame.effect1.w);
     return true;
+}
+
+// Converged when the estimate lies on the receiver the map stores at its texel: within a
+// few map texels of that receiver's plane (a texel's world size grows with distance for a
+// point light), or 5 % of the distance travelled. Within the plane the allowance is
+// stretched by 1/cos of the light's incidence on the receiver, because that is how long a
+// texel's footprint is there: at a 10° sun a floor texel is 5.8 texels long, and the
+// iteration can only place the hit somewhere inside it. (Measuring the plain distance to
+// the stored point rejected most correct hits below a 15° sun.)
+bool converged(vec3 hit, vec3 receiver, vec3 receiver_normal, vec3 light_to_hit, float dist) {
+    float texel_size = 2.0 * max(frame.light_flux.z, frame.light_flux.w) / frame.effect1.w
+                     * (frame.light_pos.w > 0.0 ? length(hit - frame.light_pos.xyz) : 1.0);
+    float across_allowed = max(3.0 * texel_size, 0.05 * dist);
+    vec3 off = hit - receiver;
+    float len_n = length(receiver_normal);
+    if (!(len_n > 0.5)) return length(off) <= across_allowed; // no normal stored: plain distance
+    vec3 n = receiver_normal / len_n;
+    float across = abs(dot(off, n));
+    float along = length(off - dot(off, n) * n);
+    // 0.01 bounds the stretch at 100 (a receiver lit within 0.6° of edge-on).
+    float facing = max(abs(dot(n, light_to_hit)), 0.01);
+    return across <= across_allowed && along <= max(3.0 * texel_size / facing, 0.05 * dist);
 }
 
 // Casts the photon at light-space position uv ∈ [0,1]² of a grid with `photons_per_axis`²
@@ -71,7 +94,11 @@ bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
     // update is therefore a secant step on the same residual g(d) = F(d) − d, which uses the
     // same one map fetch per step and converges there too. Where g is constant across a map
     // texel the secant step equals Shah's.
-    float dist = 1.0;
+    // Where the map holds nothing straight along the light ray (at a low sun that ray leaves
+    // the receivers long before the refracted one would), the guess is the scene's lowest
+    // point: exact for a flat floor, and the secant steps correct it for anything above.
+    float bottom = ps.y - frame.light_dir.w;
+    float dist = bottom > 1e-3 ? bottom / max(-rt.y, 1e-3) : 1.0;
     if (light_texel(ps, texel)) {
         vec4 below = texelFetch(light_position, texel, 0);
         float depth = ps.y - below.y;
@@ -81,9 +108,18 @@ bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
     bool have_prev = false;
     int iterations = int(frame.effect1.z);
     for (int i = 0; i < iterations; ++i) {
-        if (!light_texel(ps + dist * rt, texel)) return false;      // left the map
-        vec4 r = texelFetch(light_position, texel, 0);
-        if (r.w <= 0.0) return false;                               // nothing there
+        // A step that leaves the map or its receivers ends the iteration at the last estimate
+        // that had one (the convergence test below judges it): at a grazing sun a texel
+        // stretches over a third of a metre of floor, and a step from an exact first guess
+        // towards the texel's centre can leave the receivers. With no estimate yet, the
+        // photon hits nothing the map knows of and is dropped.
+        bool inside = light_texel(ps + dist * rt, texel);
+        vec4 r = inside ? texelFetch(light_position, texel, 0) : vec4(0.0);
+        if (r.w <= 0.0) {
+            if (!have_prev) return false;
+            dist = prev_dist;
+            break;
+        }
         float g = length(r.xyz - ps) - dist;
         float next = dist + g;
         if (have_prev && abs(g - prev_g) > 1e-6 * max(dist, 1.0)) {
@@ -93,14 +129,12 @@ bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
         dist = max(next, 1e-3);
     }
     vec3 hit = ps + dist * rt;
-    // Converged when the estimate lands where the map says the receiver is: within a few
-    // map texels (their world size grows with distance for a point light) or 5% of d.
     if (!light_texel(hit, texel)) return false;
     vec4 r = texelFetch(light_position, texel, 0);
     if (r.w <= 0.0) return false;
-    float texel_size = 2.0 * max(frame.light_flux.z, frame.light_flux.w) / frame.effect1.w
-                     * (frame.light_pos.w > 0.0 ? length(hit - frame.light_pos.xyz) : 1.0);
-    if (length(r.xyz - hit) > max(3.0 * texel_size, 0.05 * dist)) return false;
+    vec3 rn = texelFetch(light_normal, texel, 0).xyz;
+    vec3 to_hit = frame.light_pos.w > 0.0 ? normalize(hit - frame.light_pos.xyz) : frame.light_dir.xyz;
+    if (!converged(hit, r.xyz, rn, to_hit, dist)) return false;
     if (hit.y > w.level + abs(w.amplitude) + abs(w.noise_amplitude)) return false;
 
     // Flux of this photon before the surface: the light's power through its share of the

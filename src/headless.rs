@@ -83,8 +83,10 @@ pub struct SceneImages {
     /// Godray radiance (W/(m²·sr)) at the godray target's size, before and after the filter.
     pub godrays: Option<HdrImage>,
     pub godrays_filtered: Option<HdrImage>,
-    /// With photon recording: the light's receiver-position map (RGBA32F world positions).
+    /// With photon recording: the light's receiver maps, world positions (RGBA32F) and
+    /// normals.
     pub light_positions: Option<HdrImage>,
+    pub light_normals: Option<HdrImage>,
     /// With photon recording: per caustic photon, (hit, landed) and (surface, flux).
     pub photon_records: Option<Vec<[f32; 4]>>,
 }
@@ -99,7 +101,8 @@ pub struct SceneRenderer {
     albedo_transmittance: Readback,
     /// Photon buffers in order: caustics, filtered caustics, godrays, filtered godrays.
     effects: [Option<Readback>; 4],
-    light_positions: Option<Readback>,
+    /// With photon recording: the light's position and normal maps.
+    light_maps: Option<[Readback; 2]>,
 }
 
 impl SceneRenderer {
@@ -117,18 +120,18 @@ impl SceneRenderer {
         for (slot, image) in effects.iter_mut().zip(effect_images(&frame)) {
             *slot = image.map(|i| Readback::new(device, i)).transpose()?;
         }
-        let light_positions = match (&frame.shadow, options.record_photons) {
-            (Some(s), true) => Some(Readback::new(device, &s.position)?),
+        let light_maps = match (&frame.shadow, options.record_photons) {
+            (Some(s), true) => Some([Readback::new(device, &s.position)?, Readback::new(device, &s.normal)?]),
             _ => None,
         };
-        Ok(Self { frame, ring, output, scene_color, albedo_transmittance, effects, light_positions })
+        Ok(Self { frame, ring, output, scene_color, albedo_transmittance, effects, light_maps })
     }
 
     /// Renders `frames` frames at times `t0 + k·dt`; with `read_back`, the last frame's
     /// targets are copied to the host and returned.
     pub fn render(&mut self, frames: u32, t0: f32, dt: f32, read_back: bool) -> Result<(Vec<PassTimings>, Option<SceneImages>)> {
         let (out, sc, at, fx) = (&self.output, &self.scene_color, &self.albedo_transmittance, &self.effects);
-        let lp = &self.light_positions;
+        let lm = &self.light_maps;
         let frame = &mut self.frame;
         let timings = run_frames(&mut self.ring, frames, t0, dt, |slot, time, last| {
             frame.record(slot, time);
@@ -145,8 +148,9 @@ impl SceneRenderer {
                             rb.record_from(cmd, image, read);
                         }
                     }
-                    if let (Some(rb), Some(shadow)) = (lp, &frame.shadow) {
-                        rb.record_from(cmd, &shadow.position, read);
+                    if let (Some([positions, normals]), Some(shadow)) = (lm, &frame.shadow) {
+                        positions.record_from(cmd, &shadow.position, read);
+                        normals.record_from(cmd, &shadow.normal, read);
                     }
                 });
             }
@@ -178,7 +182,8 @@ impl SceneRenderer {
             caustics_filtered: effect(1)?,
             godrays: effect(2)?,
             godrays_filtered: effect(3)?,
-            light_positions: self.light_positions.as_ref().map(|r| r.read()).transpose()?,
+            light_positions: self.light_maps.as_ref().map(|[p, _]| p.read()).transpose()?,
+            light_normals: self.light_maps.as_ref().map(|[_, n]| n.read()).transpose()?,
             photon_records: self.frame.caustics.as_ref().and_then(|c| c.read_photon_records()),
         };
         Ok((timings, Some(images)))

@@ -327,12 +327,31 @@ pub struct Photon {
     pub travelled: f32,
 }
 
+/// GLSL `converged`: whether the iteration's estimate `hit` lies on the receiver stored at
+/// its light-map texel (`receiver`, `receiver_normal`; zero normal: none stored). `texel_size`
+/// is a map texel's world size at the hit, `light_to_hit` the light's unit direction there.
+pub fn converged(hit: Vec3, receiver: Vec3, receiver_normal: Vec3, light_to_hit: Vec3, dist: f32, texel_size: f32) -> bool {
+    let across_allowed = (3.0 * texel_size).max(0.05 * dist);
+    let off = hit - receiver;
+    let len_n = receiver_normal.length();
+    if !(len_n > 0.5) {
+        return off.length() <= across_allowed;
+    }
+    let n = receiver_normal / len_n;
+    let across = off.dot(n).abs();
+    let along = (off - off.dot(n) * n).length();
+    let facing = n.dot(light_to_hit).abs().max(0.01);
+    across <= across_allowed && along <= (3.0 * texel_size / facing).max(0.05 * dist)
+}
+
 /// Everything `cast_photon` reads: the frame's uniforms, the noise, and the light's
-/// receiver-position map as read back from the shadow pass (RGBA32F, w = 1 where a receiver).
+/// receiver maps as read back from the shadow pass: positions (RGBA32F, w = 1 where a
+/// receiver) and normals (xyz, zero where none).
 pub struct PhotonCaster<'a> {
     pub uniforms: &'a crate::frame::uniforms::FrameUniforms,
     pub noise: &'a NoiseTexture,
     pub light_map: &'a crate::image_io::HdrImage,
+    pub light_normals: &'a crate::image_io::HdrImage,
 }
 
 impl PhotonCaster<'_> {
@@ -408,7 +427,8 @@ impl PhotonCaster<'_> {
             return None;
         }
         let rt = rt.normalize();
-        let mut dist = 1.0;
+        let bottom = ps.y - u.light_dir[3];
+        let mut dist = if bottom > 1e-3 { bottom / (-rt.y).max(1e-3) } else { 1.0 };
         if let Some(texel) = self.light_texel(ps) {
             let below = self.receiver(texel);
             let depth = ps.y - below[1];
@@ -422,10 +442,12 @@ impl PhotonCaster<'_> {
         }
         let mut previous: Option<(f32, f32)> = None;
         for _ in 0..u.effect1[2] as i32 {
-            let texel = self.light_texel(ps + dist * rt)?;
-            let r = self.receiver(texel);
+            let r = self.light_texel(ps + dist * rt).map(|t| self.receiver(t)).unwrap_or([0.0; 4]);
             if r[3] <= 0.0 {
-                return None;
+                // Left the map or its receivers: end at the last estimate that had one.
+                let (d0, _) = previous?;
+                dist = d0;
+                break;
             }
             let g = (Vec3::new(r[0], r[1], r[2]) - ps).length() - dist;
             let mut next = dist + g;
@@ -447,7 +469,10 @@ impl PhotonCaster<'_> {
         let light_pos = Vec3::new(u.light_pos[0], u.light_pos[1], u.light_pos[2]);
         let texel_size = 2.0 * u.light_flux[2].max(u.light_flux[3]) / u.effect1[3]
             * if point { (hit - light_pos).length() } else { 1.0 };
-        if (Vec3::new(r[0], r[1], r[2]) - hit).length() > (3.0 * texel_size).max(0.05 * dist) {
+        let normal = self.light_normals.at(texel.0, texel.1);
+        let light_to_hit = if point { (hit - light_pos).normalize() } else { Vec3::new(u.light_dir[0], u.light_dir[1], u.light_dir[2]) };
+        let receiver = Vec3::new(r[0], r[1], r[2]);
+        if !converged(hit, receiver, Vec3::new(normal[0], normal[1], normal[2]), light_to_hit, dist, texel_size) {
             return None;
         }
         if hit.y > w.level + w.amplitude.abs() + w.noise_amplitude.abs() {

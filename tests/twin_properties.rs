@@ -184,10 +184,11 @@ proptest! {
         let u = FrameUniforms::new(&scene, scene.bounds(), &extents, time);
         let noise = NoiseTexture::generate();
         let map = flat_floor_light_map(&u, map_size, common::FLOOR_DEPTH);
-        let caster = PhotonCaster { uniforms: &u, noise: &noise, light_map: &map };
+        let normals = HdrImage { width: map_size, height: map_size, pixels: map.pixels.iter().map(|p| [0.0, p[3], 0.0, 0.0]).collect() };
+        let caster = PhotonCaster { uniforms: &u, noise: &noise, light_map: &map, light_normals: &normals };
         let per_axis = 24.0f32;
-        // The shader's convergence test: the hit's texel holds a receiver within 3 texels or
-        // 5 % of the distance travelled (photon.glsl).
+        // The shader's convergence test: the hit lies within 3 texels or 5 % of the distance
+        // travelled of the plane of the receiver at its texel (photon.glsl).
         let texel = 2.0 * u.light_flux[2].max(u.light_flux[3]) / map_size as f32;
         // The most one photon can carry: E⊥ through its share of the light's window.
         let share = u.light_flux[1] * 4.0 * u.light_flux[2] * u.light_flux[3] / (per_axis * per_axis);

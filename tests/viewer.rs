@@ -79,6 +79,19 @@ fn viewer_sessions_under_xvfb() {
     // yaw/pitch may move a few edges by a pixel. A wrong format swizzle, a missing pass or a
     // time mismatch moves the mean by tens.
     assert!(mean < 1.0 && far < 0.01, "viewer and headless images differ: mean {mean}, far {far}");
+
+    // 3. A line width beyond any device's range is drawn clamped, and the viewer says so.
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
+    let port = std::fs::read_to_string(scenes.join("port.toml")).unwrap();
+    let wide = dir.join("wide-lines.toml");
+    let obj = scenes.join("port.obj");
+    let text = port.replace("obj = \"port.obj\"", &format!("obj = {:?}", obj.to_str().unwrap()))
+        + "\n[effects]\nline_width = 100000.0\n";
+    std::fs::write(&wide, text).unwrap();
+    let out = under_xvfb(&["view", "--scene", wide.to_str().unwrap(), "--width", "64", "--height", "64", "--script", "frames:1,resize:80x64,frames:1"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    let warnings = err.lines().filter(|l| l.starts_with("warning:") && l.contains("effects.line_width")).count();
+    assert_eq!(warnings, 1, "the clamp is reported once, not on every resize:\n{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
 

@@ -310,8 +310,8 @@ impl Frame {
             match binding {
                 bindings::UNIFORMS => Resource::Uniform { buffer: uniforms[frame].raw, range: uniforms[frame].size },
                 bindings::NOISE => tex(&noise, &nearest),
-                bindings::LIGHT_POSITION => tex(&shadow.as_ref().expect("plan: caustics need shadow").position, &nearest),
-                bindings::LIGHT_NORMAL => tex(&shadow.as_ref().expect("plan: caustics need shadow").normal, &nearest),
+                bindings::LIGHT_POSITION => tex(&shadow.as_ref().expect("plan: photon passes need the shadow pass").position, &nearest),
+                bindings::LIGHT_NORMAL => tex(&shadow.as_ref().expect("plan: photon passes need the shadow pass").normal, &nearest),
                 bindings::SCENE_DEPTH => tex(&scene_pass.depth, &nearest),
                 bindings::SCENE_COLOR => tex(&scene_pass.color, &nearest),
                 bindings::ALBEDO_TRANSMITTANCE => tex(&scene_pass.albedo_transmittance, &nearest),

@@ -100,10 +100,10 @@ pub fn light_frame(scene: &Scene, bounds: (Vec3, Vec3), aspect: f32) -> LightFra
     let inv = (proj * view).inverse();
     const RAYS: usize = 9;
     // A fixed array: this runs every frame and must not allocate.
-    let mut corners = [Vec3::ZERO; 2 * RAYS * RAYS];
+    let mut corners = [Vec3::ZERO; 3 * RAYS * RAYS];
     for j in 0..RAYS {
         for i in 0..RAYS {
-            let k = 2 * (j * RAYS + i);
+            let k = 3 * (j * RAYS + i);
             let x = -1.0 + 2.0 * i as f32 / (RAYS - 1) as f32;
             let y = -1.0 + 2.0 * j as f32 / (RAYS - 1) as f32;
             let near = inv * Vec4::new(x, y, 0.0, 1.0);
@@ -112,6 +112,7 @@ pub fn light_frame(scene: &Scene, bounds: (Vec3, Vec3), aspect: f32) -> LightFra
             let exit = ray_box_exit(c.position, dir, lo_all, hi_all).clamp(c.z_near, far);
             corners[k] = near.clamp(lo_all, hi_all);
             corners[k + 1] = (c.position + dir * exit).clamp(lo_all, hi_all);
+            corners[k + 2] = photon_entry(scene, corners[k + 1]).clamp(lo_all, hi_all);
         }
     }
     let scene_corners: [Vec3; 8] = std::array::from_fn(|i| {
@@ -178,6 +179,27 @@ pub fn light_frame(scene: &Scene, bounds: (Vec3, Vec3), aspect: f32) -> LightFra
     }
 }
 
+/// Where the photons that light the underwater point `p` enter the water, as if it were flat:
+/// `p` traced back up the refracted light ray to the water level (`p` itself when above the
+/// water). The light's window must cover these as well as the visible receivers: at a low
+/// sun a visible floor point's texel lies far up-sun along the straight light ray (11 m at a
+/// 10° sun over a 2 m floor), while the photons that reach it enter the water only 2 m away.
+fn photon_entry(scene: &Scene, p: Vec3) -> Vec3 {
+    let level = scene.water.level;
+    if p.y >= level {
+        return p;
+    }
+    let incident = match scene.light.kind {
+        LightKind::Directional => scene.light.direction.normalize(),
+        LightKind::Point => (p - scene.light.position).normalize_or(Vec3::NEG_Y),
+    };
+    let refracted = crate::shader_math::refract(incident, Vec3::Y, 1.0 / scene.water.ior);
+    if refracted.y >= -1e-3 {
+        return p; // light from below the surface: its photons do not cross it here
+    }
+    p - refracted * ((level - p.y) / -refracted.y)
+}
+
 /// Distance along a ray from `o` (inside or outside the box) to where it leaves [lo, hi].
 fn ray_box_exit(o: Vec3, d: Vec3, lo: Vec3, hi: Vec3) -> f32 {
     let mut t = f32::INFINITY;
@@ -236,7 +258,7 @@ impl FrameUniforms {
             camera_pos: [c.position.x, c.position.y, c.position.z, time],
             camera_params: [c.z_near, c.z_far, (0.5 * c.fov_y_degrees.to_radians()).tan(), aspect],
             light_pos: [light.position.x, light.position.y, light.position.z, kind],
-            light_dir: [light.axis.x, light.axis.y, light.axis.z, 0.0],
+            light_dir: [light.axis.x, light.axis.y, light.axis.z, bounds.0.y],
             light_flux: [surface_irradiance, strength, light.half_extent[0], light.half_extent[1]],
             water0: [w.level, w.amplitude, w.wavelength, w.speed],
             water1: [w.noise_amplitude, w.noise_scale, w.ior, model],

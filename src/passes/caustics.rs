@@ -7,7 +7,7 @@ use crate::error::{Error, Result};
 use crate::shader_math::MAX_SUBDIVISION;
 use crate::frame::bindings as b;
 use crate::passes::photon_accumulation::{dispatch_per_photon, require_float_atomics, AtomicAccumulation};
-use crate::passes::PhotonPath;
+use crate::passes::{require_accumulation_format, PhotonPath, ACCUMULATION_FORMAT};
 use crate::vk::buffer::Buffer;
 use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets, Resource};
@@ -27,8 +27,6 @@ pub const BINDINGS: &[(u32, Binding)] = &[
     (b::LIGHT_NORMAL, Binding::Texture),
     (b::SCENE_DEPTH, Binding::Texture),
 ];
-
-pub const TARGET_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 
 /// Bytes of one recorded splat of the raw splat floor: clip position, irradiance, and
 /// (point size, view depth) padded to a vec4 (`SplatRecord` in glsl/caustics_record.comp).
@@ -110,7 +108,8 @@ impl CausticsPass {
         } else {
             None
         };
-        let target = ColorTarget::new(device, "caustics", extent, TARGET_FORMAT, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)?;
+        require_accumulation_format(device, "R32G32B32A32_SFLOAT with blending and linear filtering (caustic target)")?;
+        let target = ColorTarget::new(device, "caustics", extent, ACCUMULATION_FORMAT, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)?;
         let specialization = [(0, subdivision)];
         let set_layouts = [sets.layout];
         let compute = |name: &str, shader: &str| {

@@ -6,7 +6,7 @@
 use crate::error::{Error, Result};
 use crate::frame::bindings as b;
 use crate::passes::photon_accumulation::{dispatch_per_photon, require_float_atomics, AtomicAccumulation};
-use crate::passes::PhotonPath;
+use crate::passes::{require_accumulation_format, PhotonPath, ACCUMULATION_FORMAT};
 use crate::shader_math::GODRAY_MAX_SUBDIVISION;
 use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets};
@@ -21,14 +21,10 @@ pub const BINDINGS: &[(u32, Binding)] = &[
     (b::UNIFORMS, Binding::Uniform),
     (b::NOISE, Binding::Texture),
     (b::LIGHT_POSITION, Binding::Texture),
+    (b::LIGHT_NORMAL, Binding::Texture),
     (b::SCENE_DEPTH, Binding::Texture),
 ];
 
-/// Godray accumulation format. Hundreds of beam fragments land on one pixel of the small
-/// target, each a tiny fraction of the sum; half floats (11-bit mantissa) lose a measurable
-/// share of that (−13 % in tests/godrays.rs on lavapipe), single floats do not, and the
-/// target is small enough (the paper's 128²) that the extra bandwidth is negligible.
-pub const TARGET_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 
 pub struct GodraysPass {
     /// The geometry shader, vertex-only or compute path (the splat floor is a caustics-only
@@ -66,23 +62,13 @@ impl GodraysPass {
         }
         let [lo, hi] = device.limits().line_width_range;
         let line_width = line_width.clamp(lo.max(1.0), hi);
-        let features = unsafe {
-            device.instance.raw.get_physical_device_format_properties(device.info.handle, TARGET_FORMAT)
-        }
-        .optimal_tiling_features;
-        let needed = vk::FormatFeatureFlags::COLOR_ATTACHMENT_BLEND | vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR;
-        if !features.contains(needed) {
-            return Err(Error::MissingFeatures {
-                device: device.info.name.clone(),
-                missing: vec!["R32G32B32A32_SFLOAT with blending and linear filtering (godray target)"],
-            });
-        }
+        require_accumulation_format(device, "R32G32B32A32_SFLOAT with blending and linear filtering (godray target)")?;
         let mut bindings = BINDINGS.to_vec();
         if path == PhotonPath::Compute {
             bindings.push((b::PHOTON_ACCUMULATION, Binding::Storage));
         }
         let sets = DescriptorSets::new(device, "godrays", &bindings, FRAMES_IN_FLIGHT as u32)?;
-        let target = ColorTarget::new(device, "godrays", extent, TARGET_FORMAT, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)?;
+        let target = ColorTarget::new(device, "godrays", extent, ACCUMULATION_FORMAT, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)?;
         let specialization = [(0, subdivision)];
         let set_layouts = [sets.layout];
         let lines = |vertex, geometry, topology| GraphicsPipelineDesc {

@@ -11,6 +11,30 @@ pub mod scene;
 pub mod shadow;
 
 use std::ffi::CStr;
+use std::sync::Arc;
+
+use crate::error::{Error, Result};
+use crate::vk::device::Device;
+use crate::vk::vk;
+
+/// The format the photon passes accumulate into. Single floats: thousands of splats or beam
+/// fragments land on one pixel, each a tiny fraction of the sum, and half floats (11-bit
+/// mantissa) stop adding once a pixel's sum is 2¹¹ times a splat. Measured on lavapipe:
+/// godrays read −13 % (tests/godrays.rs); caustics at 1M photons −8 % against the point
+/// light's exact law, and at 16.8M photons (the largest grid) 99 % of the flux was lost.
+pub const ACCUMULATION_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+
+/// Photon targets are blended into and sampled bilinearly by compose: the device must
+/// support both on `ACCUMULATION_FORMAT` (`target` names the pass's target in the error).
+pub fn require_accumulation_format(device: &Arc<Device>, target: &'static str) -> Result<()> {
+    let features = unsafe { device.instance.raw.get_physical_device_format_properties(device.info.handle, ACCUMULATION_FORMAT) }
+        .optimal_tiling_features;
+    let needed = vk::FormatFeatureFlags::COLOR_ATTACHMENT_BLEND | vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR;
+    if !features.contains(needed) {
+        return Err(Error::MissingFeatures { device: device.info.name.clone(), missing: vec![target] });
+    }
+    Ok(())
+}
 
 /// How the photon passes generate and splat their photons. The geometry shader is the
 /// method's; the others draw the same buffers without it, so `underlight bench

@@ -1,6 +1,7 @@
 //! Shadow pass (method step 2): the scene from the light. Besides depth it stores, per
 //! texel, the world position of the nearest receiver (Shah's position texture, for the
-//! image-space intersection) and its normal (for the caustic splat's footprint). The water
+//! image-space intersection) and its normal (for the iteration's convergence test and the
+//! caustic splat's footprint). The water
 //! mask the paper makes optional is derived from the position map instead (see photon.glsl).
 
 use crate::error::Result;

@@ -96,6 +96,8 @@ struct Live {
     ring: FrameRing,
     swapchain: Option<Swapchain>,
     screenshot_buffer: Option<Buffer>,
+    /// The device clamps last printed (`Frame::clamped`).
+    reported_clamps: Vec<String>,
     surface: Surface,
     ctx: Context,
     window: Window,
@@ -222,6 +224,7 @@ impl Live {
             ring,
             swapchain: None,
             screenshot_buffer: None,
+            reported_clamps: Vec::new(),
             surface,
             ctx,
             window,
@@ -275,13 +278,16 @@ impl Live {
     fn rebuild_frame(&mut self, extent: vk::Extent2D) -> Result<()> {
         self.ctx.device.wait_idle()?;
         self.frame = None;
-        self.frame = Some(Frame::new(
-            &self.ctx.device,
-            &self.scene,
-            extent,
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            FrameOptions::default(),
-        )?);
+        let frame = Frame::new(&self.ctx.device, &self.scene, extent, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, FrameOptions::default())?;
+        // Settings beyond what the device can draw (point sizes, line width) are clamped;
+        // say so once per change, not on every resize.
+        if frame.clamped != self.reported_clamps {
+            for note in &frame.clamped {
+                eprintln!("warning: {note}");
+            }
+            self.reported_clamps = frame.clamped.clone();
+        }
+        self.frame = Some(frame);
         self.screenshot_buffer = None;
         Ok(())
     }
