@@ -6,6 +6,7 @@
 //! - [`shaders`]: GLSL → committed SPIR-V, embedded at build time.
 //! - [`shader_math`]: the Rust twin of the shared GLSL math.
 //! - [`headless`], [`image_io`]: off-screen rendering and its files.
+//! - [`reference`], [`metrics`]: the CPU reference and the GPU frame's error against it.
 #![warn(unsafe_op_in_unsafe_fn)]
 
 pub mod bench;
@@ -13,6 +14,7 @@ pub mod error;
 pub mod frame;
 pub mod headless;
 pub mod image_io;
+pub mod metrics;
 pub mod passes;
 pub mod scene;
 pub mod shader_math;

@@ -1,0 +1,182 @@
+//! How far a GPU frame is from the reference (`reference`): per-buffer errors on the HDR
+//! values, FLIP on the tonemapped image, and frame-to-frame flicker. `underlight sweep`
+//! reports these against GPU time; `docs/accuracy.md` explains the choices.
+
+use crate::image_io::{linear_to_srgb, HdrImage};
+use anyhow::{bail, Result};
+
+/// Errors of one photon buffer (caustic irradiance or godray radiance) against the reference,
+/// over the RGB channels of every pixel. Relative figures are normalised by the reference's
+/// mean, not per pixel: most pixels of a caustic buffer are near zero somewhere, and a
+/// per-pixel ratio would be dominated by them.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct BufferError {
+    /// √(mean (test − ref)²) / mean ref.
+    pub relative_rmse: f64,
+    /// mean |test − ref| / mean ref.
+    pub mean_relative_error: f64,
+    /// (Σ test − Σ ref) / Σ ref: energy made or lost (signed).
+    pub flux_error: f64,
+}
+
+fn same_size(a: &HdrImage, b: &HdrImage, what: &str) -> Result<()> {
+    if (a.width, a.height) != (b.width, b.height) {
+        bail!("{what}: {}×{} against a {}×{} reference", a.width, a.height, b.width, b.height);
+    }
+    Ok(())
+}
+
+/// `test` against `reference` (same size).
+pub fn buffer_error(test: &HdrImage, reference: &HdrImage) -> Result<BufferError> {
+    same_size(test, reference, "buffer error")?;
+    let (mut sq, mut abs, mut sum_t, mut sum_r) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    for (t, r) in test.pixels.iter().zip(&reference.pixels) {
+        for c in 0..3 {
+            let (t, r) = (t[c] as f64, r[c] as f64);
+            sq += (t - r) * (t - r);
+            abs += (t - r).abs();
+            sum_t += t;
+            sum_r += r;
+        }
+    }
+    if !(sum_r > 0.0) {
+        bail!("the reference buffer is black: no relative error can be measured");
+    }
+    let n = (reference.pixels.len() * 3) as f64;
+    let mean_r = sum_r / n;
+    Ok(BufferError {
+        relative_rmse: (sq / n).sqrt() / mean_r,
+        mean_relative_error: abs / n / mean_r,
+        flux_error: (sum_t - sum_r) / sum_r,
+    })
+}
+
+/// Frame-to-frame change of one buffer: √(mean (b − a)²) / mean of both. Measured for the
+/// GPU and for the reference at the same two times, the GPU's excess over the reference's is
+/// flicker the method adds (photons jumping between pixels, splats popping at map texels).
+pub fn frame_change(a: &HdrImage, b: &HdrImage) -> Result<f64> {
+    same_size(a, b, "frame change")?;
+    let (mut sq, mut sum) = (0.0f64, 0.0f64);
+    for (p, q) in a.pixels.iter().zip(&b.pixels) {
+        for c in 0..3 {
+            let (p, q) = (p[c] as f64, q[c] as f64);
+            sq += (q - p) * (q - p);
+            sum += 0.5 * (p + q);
+        }
+    }
+    if !(sum > 0.0) {
+        return Ok(0.0);
+    }
+    let n = (a.pixels.len() * 3) as f64;
+    Ok((sq / n).sqrt() / (sum / n))
+}
+
+/// Bilinear sample at normalised `uv`, clamped to the edge: the compose pass's linear sampler.
+fn sample_bilinear(image: &HdrImage, u: f32, v: f32) -> [f32; 4] {
+    let x = (u * image.width as f32 - 0.5).clamp(0.0, (image.width - 1) as f32);
+    let y = (v * image.height as f32 - 0.5).clamp(0.0, (image.height - 1) as f32);
+    let (x0, y0) = (x.floor() as u32, y.floor() as u32);
+    let (x1, y1) = ((x0 + 1).min(image.width - 1), (y0 + 1).min(image.height - 1));
+    let (fx, fy) = (x - x0 as f32, y - y0 as f32);
+    let (a, b, c, d) = (image.at(x0, y0), image.at(x1, y0), image.at(x0, y1), image.at(x1, y1));
+    std::array::from_fn(|i| (a[i] * (1.0 - fx) + b[i] * fx) * (1.0 - fy) + (c[i] * (1.0 - fx) + d[i] * fx) * fy)
+}
+
+/// The final image, 8-bit sRGB RGB, as compose.glsl makes it: scene colour + caustic
+/// irradiance × albedo/π × transmittance + godray radiance (both upsampled bilinearly), then
+/// `1 − e^(−exposure·L)`. FLIP compares two images composed here, one with the GPU's photon
+/// buffers and one with the reference's, so it measures the photon buffers' error and not
+/// the rounding of the GPU's own compose.
+pub fn compose_srgb8(
+    scene_color: &HdrImage,
+    albedo_transmittance: &HdrImage,
+    caustics: Option<&HdrImage>,
+    godrays: Option<&HdrImage>,
+    exposure: f32,
+) -> Vec<u8> {
+    let (w, h) = (scene_color.width, scene_color.height);
+    let mut out = Vec::with_capacity((w * h * 3) as usize);
+    for y in 0..h {
+        for x in 0..w {
+            let (u, v) = ((x as f32 + 0.5) / w as f32, (y as f32 + 0.5) / h as f32);
+            let mut l = scene_color.at(x, y);
+            if let Some(c) = caustics {
+                let (e, a) = (sample_bilinear(c, u, v), albedo_transmittance.at(x, y));
+                (0..3).for_each(|i| l[i] += a[i] * e[i]);
+            }
+            if let Some(g) = godrays {
+                let r = sample_bilinear(g, u, v);
+                (0..3).for_each(|i| l[i] += r[i]);
+            }
+            for c in &l[..3] {
+                let mapped = if c.is_finite() { 1.0 - (-exposure * c.max(0.0)).exp() } else { 0.0 };
+                out.push((linear_to_srgb(mapped) * 255.0 + 0.5) as u8);
+            }
+        }
+    }
+    out
+}
+
+/// Mean FLIP (NVIDIA's perceptual difference, 0 = identical, 1 = maximal) between two 8-bit
+/// sRGB RGB images, at the default viewing condition (67 pixels per degree).
+pub fn flip(reference_rgb: &[u8], test_rgb: &[u8], width: u32, height: u32) -> Result<f64> {
+    let n = (width * height * 3) as usize;
+    if reference_rgb.len() != n || test_rgb.len() != n {
+        bail!("FLIP: images of {} and {} bytes for {width}×{height} RGB", reference_rgb.len(), test_rgb.len());
+    }
+    let reference = nv_flip::FlipImageRgb8::with_data(width, height, reference_rgb);
+    let test = nv_flip::FlipImageRgb8::with_data(width, height, test_rgb);
+    let error_map = nv_flip::flip(reference, test, nv_flip::DEFAULT_PIXELS_PER_DEGREE);
+    Ok(nv_flip::FlipPool::from_image(&error_map).mean() as f64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn image(w: u32, h: u32, f: impl Fn(u32, u32) -> f32) -> HdrImage {
+        let pixels = (0..h).flat_map(|y| (0..w).map(move |x| (x, y))).map(|(x, y)| [f(x, y); 4]).collect();
+        HdrImage { width: w, height: h, pixels }
+    }
+
+    #[test]
+    fn buffer_error_figures() {
+        let r = image(8, 8, |x, _| 1.0 + x as f32);
+        assert_eq!(buffer_error(&r, &r).unwrap(), BufferError::default());
+        // 10 % too bright everywhere: every figure reads 0.1 (rmse: 0.1·rms/mean of r).
+        let t = image(8, 8, |x, _| 1.1 * (1.0 + x as f32));
+        let e = buffer_error(&t, &r).unwrap();
+        assert!((e.flux_error - 0.1).abs() < 1e-6 && (e.mean_relative_error - 0.1).abs() < 1e-6, "{e:?}");
+        let rms = ((1..=8).map(|v| (v * v) as f64).sum::<f64>() / 8.0).sqrt();
+        assert!((e.relative_rmse - 0.1 * rms / 4.5).abs() < 1e-6, "{e:?}");
+        // Energy moved, not lost: flux error 0, the others not.
+        let moved = image(8, 8, |x, _| 1.0 + (7 - x) as f32);
+        let e = buffer_error(&moved, &r).unwrap();
+        assert!(e.flux_error.abs() < 1e-9 && e.relative_rmse > 0.5, "{e:?}");
+        assert!(buffer_error(&image(4, 4, |_, _| 1.0), &r).is_err());
+        assert!(buffer_error(&r, &image(8, 8, |_, _| 0.0)).is_err());
+    }
+
+    #[test]
+    fn frame_change_is_zero_for_a_still_frame() {
+        let a = image(8, 8, |x, y| (x * y) as f32);
+        assert_eq!(frame_change(&a, &a).unwrap(), 0.0);
+        let b = image(8, 8, |x, y| (x * y) as f32 * 1.2);
+        assert!(frame_change(&a, &b).unwrap() > 0.1);
+    }
+
+    #[test]
+    fn compose_and_flip() {
+        let black = image(16, 16, |_, _| 0.0);
+        let lit = image(16, 16, |_, _| 1.0);
+        let caustic = image(8, 8, |x, _| x as f32 * 0.2);
+        let a = compose_srgb8(&black, &lit, Some(&caustic), None, 1.0);
+        assert_eq!(a.len(), 16 * 16 * 3);
+        // Bilinear upsampling: a ramp stays monotone along x.
+        assert!(a[3 * 15] > a[3 * 8] && a[3 * 8] > a[0]);
+        assert_eq!(flip(&a, &a, 16, 16).unwrap(), 0.0);
+        let b = compose_srgb8(&black, &lit, None, None, 1.0);
+        assert!(flip(&a, &b, 16, 16).unwrap() > 0.05);
+        assert!(flip(&a, &b[..10], 16, 16).is_err());
+    }
+}
