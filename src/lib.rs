@@ -9,6 +9,7 @@
 //! - [`reference`], [`metrics`]: the CPU reference and the GPU frame's error against it.
 #![warn(unsafe_op_in_unsafe_fn)]
 
+pub mod accuracy;
 pub mod bench;
 pub mod error;
 pub mod frame;
@@ -16,6 +17,7 @@ pub mod headless;
 pub mod image_io;
 pub mod metrics;
 pub mod passes;
+pub mod reference;
 pub mod scene;
 pub mod shader_math;
 pub mod shaders;

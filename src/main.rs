@@ -40,6 +40,114 @@ enum Command {
     },
     /// List Vulkan devices and whether each has what underlight needs.
     Devices,
+    /// The CPU reference of a scene's caustic and godray buffers (exact rays, no image-space
+    /// iteration): float dumps and tonemapped PNGs, cached by scene and settings.
+    Reference(ReferenceArgs),
+    /// The speed–accuracy trade: every combination of the given settings, each one's GPU time
+    /// and its error against the reference; writes CSV, a Markdown table and the Pareto plot.
+    Sweep(SweepArgs),
+}
+
+/// The reference's own settings (shared by `reference` and `sweep`).
+#[derive(clap::Args)]
+struct ReferenceOptions {
+    /// Caustic photons the reference traces over the whole water surface.
+    #[arg(long, default_value_t = 8_000_000)]
+    photons: u64,
+    /// Godray beams the reference traces.
+    #[arg(long, default_value_t = 1_000_000)]
+    beams: u64,
+    /// Worker threads (0: all cores).
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Where reference buffers are cached (default: ~/.cache/underlight/reference).
+    #[arg(long, value_name = "DIR")]
+    cache: Option<PathBuf>,
+}
+
+impl ReferenceOptions {
+    fn settings(&self) -> underlight::reference::ReferenceSettings {
+        underlight::reference::ReferenceSettings {
+            caustic_photons: self.photons,
+            godray_beams: self.beams,
+            threads: self.threads,
+            seed: self.seed,
+        }
+    }
+
+    fn cache_dir(&self) -> PathBuf {
+        self.cache.clone().unwrap_or_else(underlight::accuracy::default_cache_dir)
+    }
+}
+
+#[derive(clap::Args)]
+struct ReferenceArgs {
+    /// A built-in scene (tank, port, storage) or a path to a scene .toml file.
+    #[arg(long, default_value = "tank")]
+    scene: String,
+    /// Folder for caustics.pfm / godrays.pfm and their PNGs.
+    #[arg(long, default_value = "out/reference")]
+    out: PathBuf,
+    /// Output size the buffers belong to (the effect targets scale from it); defaults to the scene's.
+    #[arg(long)]
+    width: Option<u32>,
+    #[arg(long)]
+    height: Option<u32>,
+    /// Animation time, seconds (the same default as `render`'s first frame).
+    #[arg(long, default_value_t = 1.0)]
+    time: f32,
+    #[command(flatten)]
+    reference: ReferenceOptions,
+}
+
+#[derive(clap::Args)]
+struct SweepArgs {
+    /// A built-in scene (tank, port, storage) or a path to a scene .toml file.
+    #[arg(long, default_value = "tank")]
+    scene: String,
+    /// Output size (small by default: every setting renders and is compared at this size).
+    #[arg(long, default_value_t = 240)]
+    width: u32,
+    #[arg(long, default_value_t = 150)]
+    height: u32,
+    /// Caustic grid cells per axis, comma-separated.
+    #[arg(long, value_delimiter = ',', default_values_t = [48u32, 96, 192])]
+    grid: Vec<u32>,
+    /// Geometry-shader subdivisions per axis.
+    #[arg(long, value_delimiter = ',')]
+    subdiv: Vec<u32>,
+    /// Image-space iterations.
+    #[arg(long, value_delimiter = ',')]
+    iterations: Vec<u32>,
+    /// Caustic target scale relative to the output.
+    #[arg(long, value_delimiter = ',')]
+    target: Vec<f32>,
+    /// Largest caustic point size, px.
+    #[arg(long, value_delimiter = ',')]
+    point_size: Vec<f32>,
+    /// Godray line width, px.
+    #[arg(long, value_delimiter = ',')]
+    line_width: Vec<f32>,
+    /// Filter on, off, or both.
+    #[arg(long, value_delimiter = ',', default_values_t = [String::from("off"), String::from("on")])]
+    filter: Vec<String>,
+    /// Timed frames per setting (median) and warm-up frames.
+    #[arg(long, default_value_t = 5)]
+    frames: u32,
+    #[arg(long, default_value_t = 2)]
+    warmup: u32,
+    /// Animation time, seconds, and the step to the next frame for the flicker figure.
+    #[arg(long, default_value_t = 1.0)]
+    time: f32,
+    #[arg(long, default_value_t = 1.0 / 30.0)]
+    step: f32,
+    /// Folder for sweep.csv, sweep.md, sweep.json and sweep.png.
+    #[arg(long, default_value = "out/sweep")]
+    out: PathBuf,
+    #[command(flatten)]
+    reference: ReferenceOptions,
 }
 
 #[derive(clap::Args)]
@@ -226,6 +334,8 @@ fn run(cli: Cli) -> Result<i32> {
             Ok(0)
         }
         Command::Render(args) => render_scene(&cli, args),
+        Command::Reference(args) => reference(args),
+        Command::Sweep(args) => sweep(&cli, args),
         Command::View(args) => view(&cli, args),
         Command::Bench(args) => bench(&cli, args),
         Command::GridSplat(args) => grid_splat(&cli, args),
@@ -317,6 +427,94 @@ fn render_scene(cli: &Cli, args: &SceneArgs) -> Result<i32> {
         }
     }
     println!("\nmedian over {} frames:\n{}", timings.len(), headless::median_timings(&timings));
+    Ok(finish(ctx))
+}
+
+fn reference(args: &ReferenceArgs) -> Result<i32> {
+    let scene = underlight::scene::load(&args.scene)?;
+    let output = [args.width.unwrap_or(scene.output[0]), args.height.unwrap_or(scene.output[1])];
+    if output[0] == 0 || output[1] == 0 {
+        bail!("--width and --height must be at least 1 (got {}×{})", output[0], output[1]);
+    }
+    std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+    // The device's point and line limits do not enter the reference.
+    let extents = underlight::frame::target_extents(&scene, output, f32::INFINITY, f32::INFINITY);
+    let started = std::time::Instant::now();
+    let images = underlight::accuracy::cached_reference(&scene, args.time, &extents, &args.reference.settings(), &args.reference.cache_dir())?;
+    println!("reference for {:?} at t = {} s in {:.1} s", scene.name, args.time, started.elapsed().as_secs_f64());
+    // PNGs at the compose pass's exposure, as irradiance or radiance would show on a white
+    // Lambertian receiver (E/π) or directly (godrays).
+    let e_surface = underlight::frame::uniforms::surface_irradiance(&scene);
+    let exposure = 2.0 * std::f32::consts::PI / e_surface;
+    for (name, image, scale) in [("caustics", &images.caustics, 1.0 / std::f32::consts::PI), ("godrays", &images.godrays, 1.0)] {
+        let Some(image) = image else { continue };
+        let pfm = args.out.join(format!("{name}.pfm"));
+        image_io::write_pfm(&pfm, image)?;
+        let png = args.out.join(format!("{name}.png"));
+        image_io::write_png(&png, image.width, image.height, &image_io::tonemap_srgb8(image, exposure * scale))?;
+        println!("wrote {} and {}", pfm.display(), png.display());
+    }
+    Ok(0)
+}
+
+fn sweep(cli: &Cli, args: &SweepArgs) -> Result<i32> {
+    use underlight::accuracy;
+    if cli.validation {
+        bail!("sweep measures GPU time with validation off: drop --validation");
+    }
+    let scene = underlight::scene::load(&args.scene)?;
+    if args.width == 0 || args.height == 0 {
+        bail!("--width and --height must be at least 1 (got {}×{})", args.width, args.height);
+    }
+    let filter = args
+        .filter
+        .iter()
+        .map(|f| match f.as_str() {
+            "on" => Ok(true),
+            "off" => Ok(false),
+            other => bail!("--filter takes on and/or off, not {other:?}"),
+        })
+        .collect::<Result<Vec<bool>>>()?;
+    let axes = accuracy::SweepAxes {
+        grid: args.grid.clone(),
+        subdivision: args.subdiv.clone(),
+        iterations: args.iterations.clone(),
+        target_scale: args.target.clone(),
+        point_size: args.point_size.clone(),
+        line_width: args.line_width.clone(),
+        filter,
+    };
+    axes.validate()?;
+    std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+    let ctx = Context::new(&context_desc(cli))?;
+    println!("device: {}", ctx.device.info.describe());
+    let spec = accuracy::SweepSpec {
+        scene: &scene,
+        output: [args.width, args.height],
+        axes,
+        time: args.time,
+        step: args.step,
+        frames: args.frames,
+        warmup: args.warmup,
+        reference: args.reference.settings(),
+        cache_dir: args.reference.cache_dir(),
+    };
+    let rows = accuracy::run_sweep(&ctx.device, &spec)?;
+    let table = accuracy::table(&rows);
+    println!("\n{table}");
+    let write = |name: &str, text: &str| -> Result<()> {
+        let path = args.out.join(name);
+        std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
+        println!("wrote {}", path.display());
+        Ok(())
+    };
+    write("sweep.csv", &accuracy::csv(&rows))?;
+    write("sweep.md", &format!("device: {}\n\n{table}", ctx.device.info.describe()))?;
+    write("sweep.json", &serde_json::to_string_pretty(&rows)?)?;
+    let png = args.out.join("sweep.png");
+    let title = format!("{}: error vs GPU time ({})", scene.name, ctx.device.info.name);
+    accuracy::plot(&rows, &title, &png)?;
+    println!("wrote {}", png.display());
     Ok(finish(ctx))
 }
 

@@ -158,17 +158,21 @@ impl fmt::Display for FramePlan {
 
 /// Sizes of the frame's targets for an output size and a scene's effect scales.
 pub fn frame_extents(scene: &Scene, output: vk::Extent2D, device: &Device) -> FrameExtents {
-    let scaled = |s: f32| {
-        [((output.width as f32 * s).round() as u32).max(1), ((output.height as f32 * s).round() as u32).max(1)]
-    };
     let limits = device.limits();
+    target_extents(scene, [output.width, output.height], limits.point_size_range[1], limits.line_width_range[1])
+}
+
+/// `frame_extents` with the device's largest point and line given: the CPU reference sizes
+/// its buffers with this, without a device.
+pub fn target_extents(scene: &Scene, output: [u32; 2], max_point_size: f32, max_line_width: f32) -> FrameExtents {
+    let scaled = |s: f32| [((output[0] as f32 * s).round() as u32).max(1), ((output[1] as f32 * s).round() as u32).max(1)];
     FrameExtents {
-        output: [output.width, output.height],
+        output,
         caustic: scaled(scene.effects.caustic_target_scale),
         godray: scaled(scene.effects.godray_target_scale),
         light_map: scene.effects.shadow_map_size,
-        max_point_size: limits.point_size_range[1],
-        max_line_width: limits.line_width_range[1],
+        max_point_size,
+        max_line_width,
     }
 }
 
