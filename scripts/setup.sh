@@ -3,13 +3,14 @@
 #   - Rust (cargo), and a C++ toolchain to link the static shader compiler;
 #   - the Vulkan loader, Mesa's lavapipe driver, the Khronos validation layers, vulkaninfo;
 #   - libshaderc-dev (static glslang/SPIRV-Tools, linked by build.rs) and spirv-tools (spirv-val);
-#   - xvfb, for the viewer's tests on a machine without a display.
+#   - xvfb, for the viewer's tests on a machine without a display;
+#   - fonts-dejavu-core, the font `underlight sweep` labels its plot with.
 # As root on Debian/Ubuntu it installs missing packages with apt-get; otherwise it prints the
 # exact command to run and exits non-zero.
 set -euo pipefail
 
 PACKAGES=(g++ pkg-config libvulkan1 mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
-          libshaderc-dev spirv-tools xvfb)
+          libshaderc-dev spirv-tools xvfb fonts-dejavu-core)
 
 if ! command -v dpkg-query >/dev/null 2>&1 || ! command -v apt-get >/dev/null 2>&1; then
   echo "underlight's setup script knows Debian/Ubuntu only. Install the equivalents of:" >&2

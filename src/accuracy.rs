@@ -77,11 +77,13 @@ impl Progress {
             return;
         }
         let filled = (percent / 4) as usize;
-        eprint!("\r{} [{}{}] {percent:>3} %", self.label, "#".repeat(filled), ".".repeat(25 - filled));
-        if percent == 100 {
-            eprintln!();
+        let bar = format!("{} [{}{}] {percent:>3} %", self.label, "#".repeat(filled), ".".repeat(25 - filled));
+        if step == 1 {
+            eprint!("\r{bar}{}", if percent == 100 { "\n" } else { "" });
+            std::io::stderr().flush().ok();
+        } else {
+            eprintln!("{bar}");
         }
-        std::io::stderr().flush().ok();
     }
 }
 
@@ -446,6 +448,7 @@ pub fn plot(rows: &[SweepRow], title: &str, path: &Path) -> Result<()> {
         .legend(|(x, y)| TriangleMarker::new((x + 10, y), 7, GREEN.filled()));
     chart
         .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
         .background_style(WHITE.mix(0.8))
         .border_style(BLACK)
         .label_font(("sans-serif", 15))

@@ -98,6 +98,10 @@ struct ReferenceArgs {
     /// Animation time, seconds (the same default as `render`'s first frame).
     #[arg(long, default_value_t = 1.0)]
     time: f32,
+    /// Also trace twice the photons and beams (another seed) and print how much the buffers
+    /// change: the reference's own error, which must stay below the errors it measures.
+    #[arg(long)]
+    convergence: bool,
     #[command(flatten)]
     reference: ReferenceOptions,
 }
@@ -124,7 +128,7 @@ struct SweepArgs {
     /// Caustic target scale relative to the output.
     #[arg(long, value_delimiter = ',')]
     target: Vec<f32>,
-    /// Largest caustic point size, px.
+    /// Largest caustic point size, px (the smallest is lowered to it where larger).
     #[arg(long, value_delimiter = ',')]
     point_size: Vec<f32>,
     /// Godray line width, px.
@@ -453,6 +457,26 @@ fn reference(args: &ReferenceArgs) -> Result<i32> {
         let png = args.out.join(format!("{name}.png"));
         image_io::write_png(&png, image.width, image.height, &image_io::tonemap_srgb8(image, exposure * scale))?;
         println!("wrote {} and {}", pfm.display(), png.display());
+    }
+    if args.convergence {
+        let mut doubled = args.reference.settings();
+        doubled.caustic_photons *= 2;
+        doubled.godray_beams *= 2;
+        doubled.seed = doubled.seed.wrapping_add(1);
+        let more = underlight::accuracy::cached_reference(&scene, args.time, &extents, &doubled, &args.reference.cache_dir())?;
+        for (name, a, b) in [("caustics", &images.caustics, &more.caustics), ("godrays", &images.godrays, &more.godrays)] {
+            if let (Some(a), Some(b)) = (a, b) {
+                let e = underlight::metrics::buffer_error(a, b)?;
+                println!(
+                    "{name}: {} → {} samples changes the buffer by relative RMSE {:.4}, mean relative {:.4}, flux {:+.4}",
+                    if name == "caustics" { args.reference.photons } else { args.reference.beams },
+                    if name == "caustics" { doubled.caustic_photons } else { doubled.godray_beams },
+                    e.relative_rmse,
+                    e.mean_relative_error,
+                    e.flux_error
+                );
+            }
+        }
     }
     Ok(0)
 }

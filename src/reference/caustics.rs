@@ -3,7 +3,9 @@
 //! The quantity, per pixel P of solid angle Ω_P (exact, from its corner rays), is the
 //! irradiance averaged over the pixel's solid angle:
 //!
+//! ```text
 //!     E_P = (1/Ω_P) ∫_P E(x(ω)) dω = (1/Ω_P) ∫_{visible footprint} E(x) · |cos θ_v| / d_v² dA
+//! ```
 //!
 //! with x(ω) the receiver point the ray ω sees, d_v its distance and θ_v the angle between
 //! the view ray and the receiver's geometric normal. Since E dA is the flux arriving on dA,
@@ -17,8 +19,8 @@
 //! Visibility is exact: the photon counts where the straight segment from the camera to its
 //! receiver meets no triangle and no water surface inside the water's extent.
 
-use super::light::{jitter, trace, LightPath, LightSampler, Strata};
-use super::{parallel, row_chunks, sum_buffers, Context, Progress, ReferenceSettings};
+use super::light::{LightPath, LightSampler, Strata};
+use super::{sum_buffers, trace_strata, Context, Progress, ReferenceSettings};
 use crate::image_io::HdrImage;
 use glam::DVec3;
 
@@ -32,26 +34,17 @@ pub(super) fn render(ctx: &Context, sampler: &LightSampler, settings: &Reference
     let pixels = (size[0] * size[1]) as usize;
     let omega: Vec<f64> = (0..pixels as u32).map(|i| ctx.camera.pixel_solid_angle(i % size[0], i / size[0], size)).collect();
     let strata = Strata::new(sampler.rect_lo, sampler.rect_hi, settings.caustic_photons);
-    let chunks = row_chunks(strata.rows, strata.n as f64 / strata.rows as f64, PHOTONS_PER_ITEM);
-    let buffers = parallel(
+    let buffers = trace_strata(
+        ctx,
+        sampler,
+        &strata,
+        settings.seed,
+        STREAM,
+        PHOTONS_PER_ITEM,
         threads,
-        chunks.len() as u64,
+        progress,
         || vec![[0.0f64; 4]; pixels],
-        |buffer, item| {
-            let (j0, j1) = chunks[item as usize];
-            let mut traced = 0;
-            for j in j0..j1 {
-                let (first, count) = strata.row(j);
-                for i in 0..count {
-                    let (xz, area) = strata.sample(j, i, count, jitter(settings.seed, STREAM, first + i));
-                    if let Some(path) = trace(ctx, sampler, xz, area) {
-                        deposit(ctx, &path, &omega, buffer);
-                    }
-                }
-                traced += count;
-            }
-            progress.add(traced);
-        },
+        |buffer, path, _| deposit(ctx, path, &omega, buffer),
     );
     sum_buffers(size, buffers)
 }

@@ -2,7 +2,9 @@
 //!
 //! The quantity, for the view ray x(s) = c + s·v through a pixel's centre, is
 //!
+//! ```text
 //!     L = ∫ σs · p_HG(θ) · F(x(s)) · e^(−γ·w(s)) ds
+//! ```
 //!
 //! over the parts of the ray under the water in front of what the pixel sees (its first
 //! triangle, the water surface inside the extent, or the far plane), where F is the
@@ -14,7 +16,9 @@
 //! path is a beam of flux Φ·T, and F is estimated by spreading each beam uniformly over a
 //! disc of radius r perpendicular to it:
 //!
+//! ```text
 //!     F(x) ≈ Σ_beams Φ · e^(−γ·t(x)) / (π r²)   over the beams within r of x.
+//! ```
 //!
 //! The ray's integral is then exact per beam: the chord of the ray inside the beam's
 //! cylinder is a quadratic's root interval, and e^(−γ·(t(s) + w(s))) is the exponential of
@@ -33,8 +37,8 @@
 //! caustic shafts are softened by ~r), its noise that of the ≈ 3²·π ≈ 28 beams a ray parallel
 //! to them meets (far more for oblique rays: ~6·ℓ·sin θ/δ over a path ℓ).
 
-use super::light::{jitter, trace, LightPath, LightSampler, Strata};
-use super::{parallel, row_chunks, sum_buffers, Context, Progress, ReferenceSettings};
+use super::light::{LightPath, LightSampler, Strata};
+use super::{sum_buffers, trace_strata, Context, Progress, ReferenceSettings};
 use crate::image_io::HdrImage;
 use crate::shader_math::henyey_greenstein;
 use glam::{DVec2, DVec3};
@@ -65,26 +69,17 @@ pub(super) fn render(ctx: &Context, sampler: &LightSampler, settings: &Reference
     let strata = Strata::new(sampler.rect_lo, sampler.rect_hi, settings.godray_beams);
     let radius = KERNEL_SPACINGS * (strata.area() / strata.n as f64).sqrt();
     let splatter = Splatter::new(ctx, &rays, radius);
-    let chunks = row_chunks(strata.rows, strata.n as f64 / strata.rows as f64, BEAMS_PER_ITEM);
-    let buffers = parallel(
+    let buffers = trace_strata(
+        ctx,
+        sampler,
+        &strata,
+        settings.seed,
+        STREAM,
+        BEAMS_PER_ITEM,
         threads,
-        chunks.len() as u64,
+        progress,
         || (vec![[0.0f64; 4]; pixels], vec![u64::MAX; pixels]),
-        |(buffer, stamps), item| {
-            let (j0, j1) = chunks[item as usize];
-            let mut traced = 0;
-            for j in j0..j1 {
-                let (first, count) = strata.row(j);
-                for i in 0..count {
-                    let (xz, area) = strata.sample(j, i, count, jitter(settings.seed, STREAM, first + i));
-                    if let Some(path) = trace(ctx, sampler, xz, area) {
-                        splatter.splat(&path, first + i, buffer, stamps);
-                    }
-                }
-                traced += count;
-            }
-            progress.add(traced);
-        },
+        |(buffer, stamps), path, index| splatter.splat(path, index, buffer, stamps),
     );
     sum_buffers(size, buffers.into_iter().map(|(b, _)| b).collect())
 }
@@ -361,7 +356,7 @@ mod tests {
 
     #[test]
     fn exp_integral_is_exact() {
-        let (a, b, l, h) = (-0.3, -0.7, 1.0, 4.0);
+        let (a, b, l, h): (f64, f64, f64, f64) = (-0.3, -0.7, 1.0, 4.0);
         let exact = ((a + b * h).exp() - (a + b * l).exp()) / b;
         assert!((exp_integral(a, b, l, h) - exact).abs() < 1e-14);
         assert!((exp_integral(-0.3, 0.0, 1.0, 4.0) - 3.0 * (-0.3f64).exp()).abs() < 1e-14);

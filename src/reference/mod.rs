@@ -234,6 +234,41 @@ fn sum_buffers(size: [u32; 2], buffers: Vec<Vec<[f64; 4]>>) -> HdrImage {
     HdrImage { width: size[0], height: size[1], pixels: total.into_iter().map(|p| p.map(|v| v as f32)).collect() }
 }
 
+/// Traces every sample of `strata` (jitter stream `stream`) on `threads` threads, in work
+/// items of about `per_item` samples, and hands each path that enters the water to `each`
+/// with the sample's index and the thread's own state (`init()`); returns the states. Both
+/// estimators draw their photons or beams through this.
+#[allow(clippy::too_many_arguments)]
+fn trace_strata<T: Send>(
+    ctx: &Context,
+    sampler: &light::LightSampler,
+    strata: &light::Strata,
+    seed: u64,
+    stream: u64,
+    per_item: f64,
+    threads: usize,
+    progress: &Progress,
+    init: impl Fn() -> T + Sync,
+    each: impl Fn(&mut T, &light::LightPath, u64) + Sync,
+) -> Vec<T> {
+    let chunks = row_chunks(strata.rows, strata.n as f64 / strata.rows as f64, per_item);
+    parallel(threads, chunks.len() as u64, init, |state, item| {
+        let (j0, j1) = chunks[item as usize];
+        let mut traced = 0;
+        for j in j0..j1 {
+            let (first, count) = strata.row(j);
+            for i in 0..count {
+                let (xz, area) = strata.sample(j, i, count, light::jitter(seed, stream, first + i));
+                if let Some(path) = light::trace(ctx, sampler, xz, area) {
+                    each(state, &path, first + i);
+                }
+            }
+            traced += count;
+        }
+        progress.add(traced);
+    })
+}
+
 /// Groups the strata's rows into work items of about `per_item` samples: (first row, end row).
 fn row_chunks(rows: u64, per_row: f64, per_item: f64) -> Vec<(u64, u64)> {
     let step = ((per_item / per_row.max(1.0)).floor() as u64).max(1);
