@@ -2,7 +2,7 @@
 //! values, FLIP on the tonemapped image, and frame-to-frame flicker. `underlight sweep`
 //! reports these against GPU time; `docs/accuracy.md` explains the choices.
 
-use crate::image_io::{linear_to_srgb, HdrImage};
+use crate::image_io::{tonemap_srgb8, HdrImage};
 use anyhow::{bail, Result};
 
 /// Errors of one photon buffer (caustic irradiance or godray radiance) against the reference,
@@ -95,11 +95,11 @@ pub fn compose_srgb8(
     exposure: f32,
 ) -> Vec<u8> {
     let (w, h) = (scene_color.width, scene_color.height);
-    let mut out = Vec::with_capacity((w * h * 3) as usize);
+    let mut radiance = scene_color.clone();
     for y in 0..h {
         for x in 0..w {
             let (u, v) = ((x as f32 + 0.5) / w as f32, (y as f32 + 0.5) / h as f32);
-            let mut l = scene_color.at(x, y);
+            let l = &mut radiance.pixels[(y * w + x) as usize];
             if let Some(c) = caustics {
                 let (e, a) = (sample_bilinear(c, u, v), albedo_transmittance.at(x, y));
                 (0..3).for_each(|i| l[i] += a[i] * e[i]);
@@ -108,13 +108,10 @@ pub fn compose_srgb8(
                 let r = sample_bilinear(g, u, v);
                 (0..3).for_each(|i| l[i] += r[i]);
             }
-            for c in &l[..3] {
-                let mapped = if c.is_finite() { 1.0 - (-exposure * c.max(0.0)).exp() } else { 0.0 };
-                out.push((linear_to_srgb(mapped) * 255.0 + 0.5) as u8);
-            }
         }
     }
-    out
+    // The same tonemap as the render command's PNGs; FLIP takes RGB, so alpha is dropped.
+    tonemap_srgb8(&radiance, exposure).chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect()
 }
 
 /// Mean FLIP (NVIDIA's perceptual difference, 0 = identical, 1 = maximal) between two 8-bit
