@@ -56,11 +56,16 @@ fn frame_passes(c: &mut Criterion) {
     let ctx = Context::new(&desc).expect("Vulkan context");
     // UNDERLIGHT_BENCH_SCENES=tank,port,storage picks scenes; the tank alone by default.
     let scenes = std::env::var("UNDERLIGHT_BENCH_SCENES").unwrap_or_else(|_| "tank".into());
-    for name in scenes.split(',') {
-        let scene = underlight::scene::load(name).expect("scene");
+    // Each scene twice: from its camera (under the water) and from that camera mirrored
+    // above the water, where the refraction and reflection passes run.
+    for (name, above) in scenes.split(',').flat_map(|n| [(n, false), (n, true)]) {
+        let mut scene = underlight::scene::load(name).expect("scene");
+        if above {
+            underlight::bench::move_camera_above_water(&mut scene);
+        }
         let out = vk::Extent2D { width: scene.output[0], height: scene.output[1] };
         let mut renderer = SceneRenderer::new(&ctx.device, &scene, out).unwrap();
-        let mut group = c.benchmark_group(format!("frame/{name}"));
+        let mut group = c.benchmark_group(format!("frame/{name}{}", if above { "-above" } else { "" }));
         group.sample_size(10).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(5));
         for pass in renderer.frame.plan.passes.clone() {
             group.bench_function(pass.name(), |b| {

@@ -8,6 +8,7 @@ layout(set = 0, binding = 0, std140) uniform FrameUniforms {
     mat4 camera_view_proj;
     mat4 light_view_proj;
     mat4 light_inv_view_proj;
+    mat4 camera_inv_view_proj;
     vec4 camera_pos;       // xyz; w = time, s
     vec4 camera_params;    // z_near, z_far, tan(fov_y / 2), aspect
     vec4 light_pos;        // xyz; w = 0 directional, 1 point
@@ -22,7 +23,7 @@ layout(set = 0, binding = 0, std140) uniform FrameUniforms {
     vec4 effect1;          // caustic photons per axis, godray photons per axis, iterations, light map size
     vec4 effect2;          // device point size max, device line width max, caustic target w, h
     vec4 effect3;          // godray target w, h, output w, h
-    vec4 water4;           // the water's phase at this frame's time (common.glsl, water_height_grad); w unused
+    vec4 water4;           // xyz: the water's phase at this frame's time (common.glsl, water_height_grad); w: 1 if this frame recorded the refraction and reflection passes
 } frame;
 
 WaterParams frame_water() {
@@ -43,6 +44,9 @@ WaterParams frame_water() {
 
 float frame_time() { return frame.camera_pos.w; }
 vec3 frame_water_phase() { return frame.water4.xyz; }
+// Whether the refraction and reflection views were rendered this frame (the camera can see
+// the surface from above).
+bool frame_surface_views_ready() { return frame.water4.w > 0.5; }
 
 // Distance from the camera along its view axis for a depth-buffer value (Vulkan [0, 1]
 // depth, standard perspective).

@@ -15,4 +15,9 @@
 #define BINDING_PHOTON_DEBUG 10
 #define BINDING_PHOTON_ACCUMULATION 11
 #define BINDING_SPLAT_RECORDS 12
+// What the camera sees through the water surface from above (refraction and reflection passes).
+#define BINDING_REFRACTION_COLOR 13
+#define BINDING_REFRACTION_ALBEDO 14
+#define BINDING_REFRACTION_DEPTH 15
+#define BINDING_REFLECTION_COLOR 16
 #endif

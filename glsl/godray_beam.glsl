@@ -19,7 +19,7 @@ vec3 beam_radiance(vec3 world, float from_surface, vec3 direction, float flux, f
     float sin_t = sqrt(max(1.0 - cos_t * cos_t, 0.0));
     float line_w = clamp(frame.effect0.z, 1.0, frame.effect2.y);
     float l_pix = view_depth * 2.0 * frame.camera_params.z / frame.effect3.y;
-    float d_view_water = underwater_length(cam, world, frame.water0.x);
+    float d_view_water = view_underwater_length(world);
     vec3 attenuation = exp(-frame.gamma.rgb * (from_surface + d_view_water));
     // sin θ is clamped: a beam seen end-on would otherwise concentrate into one pixel.
     vec3 L = frame.gamma.w * henyey_greenstein(cos_t, frame.effect0.w) * flux * attenuation

@@ -7,7 +7,7 @@
 #include "frame.glsl"
 #include "frame_textures.glsl"
 
-layout(set = 0, binding = BINDING_NOISE) uniform sampler2D noise_tex;
+#include "noise_texture.glsl"
 layout(set = 0, binding = BINDING_LIGHT_POSITION) uniform sampler2D light_position;
 layout(set = 0, binding = BINDING_LIGHT_NORMAL) uniform sampler2D light_normal;
 

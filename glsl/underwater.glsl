@@ -1,7 +1,36 @@
-// Shading helpers shared by the scene and water-surface shaders.
+// Shading helpers shared by the scene, water-surface, background and compose shaders.
 #ifndef UNDERLIGHT_UNDERWATER_GLSL
 #define UNDERLIGHT_UNDERWATER_GLSL
 #include "frame.glsl"
+#include "frame_textures.glsl"
+
+#include "noise_texture.glsl"
+
+// Highest crest and lowest trough the surface can reach (the noise stays within ±1).
+float water_crest() { return frame.water0.x + abs(frame.water0.y) + abs(frame.water1.x); }
+float water_trough() { return frame.water0.x - abs(frame.water0.y) - abs(frame.water1.x); }
+
+// Whether the camera ray in unit direction `dir` starts under the water. Decided where the
+// ray leaves the near plane, against the surface's true height there, not by the camera's
+// side of the mean plane: a camera at the waterline sees part of the image from each side,
+// and every pass that asks (scene, background, compose) must split the image along the same
+// line, or a band of pixels gets the other medium's shading (a seam).
+bool view_ray_starts_under(vec3 dir) {
+    vec3 c = frame.camera_pos.xyz;
+    float near = frame.camera_params.x;
+    // Far from the waves the answer is the same for every pixel: skip the height lookup.
+    if (c.y - near > water_crest()) return false;
+    if (c.y + near < water_trough()) return true;
+    vec3 start = c + dir * (near / max(dot(dir, camera_forward()), 1e-3));
+    WaterParams w = frame_water();
+    return start.y < w.level + water_height_grad(w, noise_tex, start.xz, frame_water_phase()).x;
+}
+
+// Unit camera ray through a pixel at uv (0..1 over the target).
+vec3 pixel_ray(vec2 uv) {
+    vec4 p = frame.camera_inv_view_proj * vec4(uv * 2.0 - 1.0, 0.0, 1.0);
+    return normalize(p.xyz / p.w - frame.camera_pos.xyz);
+}
 
 // Length of the segment a→b that lies below the water's mean plane.
 float underwater_length(vec3 a, vec3 b, float level) {
@@ -27,10 +56,40 @@ vec3 water_fog_radiance() {
     return frame.water3.z * frame.gamma.w / g / (4.0 * PI);
 }
 
+// Length of the camera ray to p that runs under water, the ray's start decided per pixel
+// (view_ray_starts_under) and its crossing taken at the mean plane.
+float view_underwater_length(vec3 p) {
+    vec3 c = frame.camera_pos.xyz;
+    float len = length(p - c);
+    bool c_in = view_ray_starts_under((p - c) / max(len, 1e-6));
+    bool p_in = p.y < frame.water0.x;
+    if (c_in == p_in) return c_in ? len : 0.0;
+    float dy = p.y - c.y;
+    float s = abs(dy) > 1e-6 ? clamp((frame.water0.x - c.y) / dy, 0.0, 1.0) : 0.5;
+    return c_in ? s * len : (1.0 - s) * len;
+}
+
+// Thesis eq. 4–5 per channel: radiance L seen through d metres of water fades to the water's
+// own colour (its in-scattered glow) with transmittance e^(−γd).
+vec3 through_water_length(vec3 L, float d) {
+    vec3 t = exp(-frame.gamma.rgb * d);
+    return water_fog_radiance() + t * (L - water_fog_radiance());
+}
+
 // Applies the water between the camera and p to radiance L leaving p.
 vec3 through_water(vec3 L, vec3 p) {
-    float d = underwater_length(frame.camera_pos.xyz, p, frame.water0.x);
-    vec3 t = exp(-frame.gamma.rgb * d);
-    return L * t + water_fog_radiance() * (1.0 - t);
+    return through_water_length(L, view_underwater_length(p));
+}
+
+// Radiance of the sky in direction dir (above the horizon): uniform, from the ambient share.
+vec3 sky_radiance(vec3 dir) {
+    return vec3(0.55, 0.7, 1.0) * frame.water3.z / PI;
+}
+
+// The sun's disc (half-angle ~0.5°) seen in direction dir, radiance: E⊥ over its solid angle
+// (2π(1 − cos 0.5°) ≈ 2.4e-4 sr).
+vec3 sun_disc_radiance(vec3 dir) {
+    bool in_disc = frame.light_pos.w == 0.0 && dot(dir, -frame.light_dir.xyz) > 0.99996;
+    return vec3(in_disc ? frame.light_flux.y / 2.4e-4 : 0.0);
 }
 #endif

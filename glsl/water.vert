@@ -5,7 +5,7 @@
 #include "frame_textures.glsl"
 
 layout(constant_id = 0) const uint CELLS = 128;
-layout(set = 0, binding = BINDING_NOISE) uniform sampler2D noise_tex;
+#include "noise_texture.glsl"
 
 layout(location = 0) out vec3 v_world;
 layout(location = 1) out vec3 v_normal;

@@ -33,6 +33,9 @@ pub struct BenchConfig {
     pub point_size: Option<(f32, f32)>,
     pub line_width: Option<f32>,
     pub filter: bool,
+    /// The camera mirrored in the water's mean plane, so it looks at the same point through
+    /// the surface from above (the refraction and reflection passes run).
+    pub camera_above: bool,
     /// The paper's frame rate for this configuration, as it states it.
     pub paper_fps: &'static str,
 }
@@ -53,6 +56,7 @@ pub fn configs() -> Vec<BenchConfig> {
         point_size: None,
         line_width: None,
         filter: true,
+        camera_above: false,
         paper_fps: "",
     };
     vec![
@@ -78,6 +82,8 @@ pub fn configs() -> Vec<BenchConfig> {
             paper_fps: "20",
             ..base.clone()
         },
+        // Not in the paper: its camera stays under the water.
+        BenchConfig { name: "above-800", camera_above: true, paper_fps: "-", ..base.clone() },
         BenchConfig {
             name: "tiny",
             width: 96,
@@ -114,8 +120,18 @@ impl BenchConfig {
         }
         e.filter = self.filter;
         s.output = [self.width, self.height];
+        if self.camera_above {
+            move_camera_above_water(&mut s);
+        }
         s
     }
+}
+
+/// Mirrors the camera's height in the water's mean plane (if under it), so it looks at the
+/// same point through the surface from above.
+pub fn move_camera_above_water(scene: &mut Scene) {
+    let level = scene.water.level;
+    scene.camera.position.y = level + (level - scene.camera.position.y).abs();
 }
 
 /// Median, 5th and 95th percentile of one pass's GPU milliseconds.

@@ -179,6 +179,13 @@ struct SceneArgs {
     /// Print which passes the scene needs and why, then render.
     #[arg(long)]
     explain: bool,
+    /// Put the camera here instead of the scene's position, e.g. `0.3,1.5,0.2` (above the
+    /// water the surface reflects and refracts).
+    #[arg(long, value_name = "X,Y,Z", value_delimiter = ',', allow_hyphen_values = true)]
+    camera: Option<Vec<f32>>,
+    /// Point the camera at this point instead of the scene's look_at.
+    #[arg(long, value_name = "X,Y,Z", value_delimiter = ',', allow_hyphen_values = true)]
+    look_at: Option<Vec<f32>>,
 }
 
 #[derive(clap::Args)]
@@ -187,7 +194,8 @@ struct BenchArgs {
     #[arg(long, default_value = "tank")]
     scene: String,
     /// Configurations to run, comma-separated: paper-800, paper-1440, paper-1m-photons,
-    /// paper-1440-high, tiny; or "paper" for the paper's four.
+    /// paper-1440-high, above-800 (paper-800 seen from above the water), tiny; or
+    /// "paper" for the paper's four.
     #[arg(long, default_value = "paper")]
     config: String,
     /// Measured frames per configuration.
@@ -241,6 +249,10 @@ struct ViewArgs {
     /// Start with time paused (P toggles, N steps).
     #[arg(long)]
     paused: bool,
+    /// Print which passes the viewer creates for the scene and why (the camera moves, so the
+    /// passes for the water seen from above exist and run in the frames that need them).
+    #[arg(long)]
+    explain: bool,
 }
 
 #[derive(clap::Args)]
@@ -375,7 +387,23 @@ fn finish(ctx: Context) -> i32 {
 }
 
 fn render_scene(cli: &Cli, args: &SceneArgs) -> Result<i32> {
-    let scene = underlight::scene::load(&args.scene)?;
+    let mut scene = underlight::scene::load(&args.scene)?;
+    let point = |name: &str, v: &Option<Vec<f32>>| -> Result<Option<glam::Vec3>> {
+        match v.as_deref() {
+            None => Ok(None),
+            Some([x, y, z]) if [x, y, z].iter().all(|c| c.is_finite()) => Ok(Some(glam::Vec3::new(*x, *y, *z))),
+            Some(other) => bail!("--{name} takes three finite numbers X,Y,Z (got {other:?})"),
+        }
+    };
+    if let Some(p) = point("camera", &args.camera)? {
+        scene.camera.position = p;
+    }
+    if let Some(p) = point("look-at", &args.look_at)? {
+        scene.camera.look_at = p;
+    }
+    if scene.camera.position.distance(scene.camera.look_at) < 1e-6 {
+        bail!("--camera and --look-at give the same point: the camera needs a direction to look in");
+    }
     let width = args.width.unwrap_or(scene.output[0]);
     let height = args.height.unwrap_or(scene.output[1]);
     if width == 0 || height == 0 {
@@ -604,6 +632,9 @@ fn view(cli: &Cli, args: &ViewArgs) -> Result<i32> {
     use underlight::viewer::{self, script, ViewerOptions};
     use underlight::vk::swapchain::PresentMode;
     let scene = underlight::scene::load(&args.scene)?;
+    if args.explain {
+        println!("passes for scene {:?} in the viewer:\n{}", scene.name, underlight::frame::FramePlan::new(&scene, true));
+    }
     let present_mode = match args.present_mode.as_str() {
         "fifo" => PresentMode::Fifo,
         "mailbox" => PresentMode::Mailbox,

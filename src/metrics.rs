@@ -72,7 +72,7 @@ pub fn frame_change(a: &HdrImage, b: &HdrImage) -> Result<f64> {
 }
 
 /// Bilinear sample at normalised `uv`, clamped to the edge: the compose pass's linear sampler.
-fn sample_bilinear(image: &HdrImage, u: f32, v: f32) -> [f32; 4] {
+pub fn sample_bilinear(image: &HdrImage, u: f32, v: f32) -> [f32; 4] {
     let x = (u * image.width as f32 - 0.5).clamp(0.0, (image.width - 1) as f32);
     let y = (v * image.height as f32 - 0.5).clamp(0.0, (image.height - 1) as f32);
     let (x0, y0) = (x.floor() as u32, y.floor() as u32);

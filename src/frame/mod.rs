@@ -1,8 +1,11 @@
 //! The frame: which passes run for a scene, in order, and their recording.
 //!
 //! `FramePlan` derives the passes from the scene (model only what the scene requires);
-//! `Frame` creates exactly those passes and targets, and records them in method order:
-//! shadow → scene → caustics → godrays → filter → compose, each through the timing wrapper.
+//! `Frame` creates exactly those passes and targets, and records them through the timing
+//! wrapper in method order: shadow → scene → caustics → godrays → filter → compose with the
+//! camera under the water; shadow → refraction → caustics → godrays → filter → reflection →
+//! scene → compose in frames where it can see the surface from above (the photons are
+//! splatted into the view the surface refracts, and the surface reads them).
 
 pub mod mesh;
 pub mod uniforms;
@@ -12,7 +15,10 @@ use crate::passes::caustics::CausticsPass;
 use crate::passes::compose::ComposePass;
 use crate::passes::filter::FilterPass;
 use crate::passes::godrays::GodraysPass;
-use crate::passes::scene::ScenePass;
+use crate::passes::reflection::ReflectionPass;
+use crate::passes::refraction::RefractionPass;
+use crate::passes::scene::{ScenePass, SurfaceInputs};
+use crate::passes::{photon_set_index, PHOTON_SETS};
 use crate::passes::shadow::ShadowPass;
 use crate::passes::PassId;
 use crate::scene::Scene;
@@ -23,7 +29,7 @@ use crate::vk::descriptors::{Binding, DescriptorSets, Resource};
 use crate::vk::device::Device;
 use crate::vk::image::Image;
 use crate::vk::sampler::Sampler;
-use crate::vk::upload::image_with_data;
+use crate::vk::upload::{image_with_data, make_sampleable};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use mesh::GpuMeshes;
@@ -50,6 +56,11 @@ pub mod bindings {
     pub const PHOTON_ACCUMULATION: u32 = 11;
     /// The raw splat floor's recorded splats (its pass binds its own).
     pub const SPLAT_RECORDS: u32 = 12;
+    /// The refraction and reflection passes' targets, which the water surface reads.
+    pub const REFRACTION_COLOR: u32 = 13;
+    pub const REFRACTION_ALBEDO: u32 = 14;
+    pub const REFRACTION_DEPTH: u32 = 15;
+    pub const REFLECTION_COLOR: u32 = 16;
 }
 
 /// Which passes a scene needs, and why each is in or out.
@@ -61,8 +72,24 @@ pub struct FramePlan {
     pub decisions: Vec<(PassId, bool, String)>,
 }
 
+/// The camera's lowest point that can see the water from above: under the lowest trough
+/// (by its near distance, as the near plane reaches past the camera) it sees the surface only
+/// from below.
+pub fn camera_sees_surface_from_above(scene: &Scene) -> bool {
+    let w = &scene.water;
+    let trough = w.level - w.amplitude.abs() - w.noise_amplitude.abs();
+    scene.camera.position.y + 2.0 * scene.camera.z_near >= trough
+}
+
 impl FramePlan {
+    /// The plan for the scene's own, fixed camera (headless renders, benches).
     pub fn for_scene(scene: &Scene) -> Self {
+        Self::new(scene, false)
+    }
+
+    /// `camera_moves`: the camera may go anywhere (the viewer): the passes any camera
+    /// position needs are created and each frame records those its camera needs.
+    pub fn new(scene: &Scene, camera_moves: bool) -> Self {
         let level = scene.water.level;
         let below = scene.meshes.iter().any(|m| m.positions.iter().any(|p| p.y < level));
         // The method casts photons into the water through its surface from above; a point
@@ -121,6 +148,21 @@ impl FramePlan {
             )
         };
         let shadow = caustics || godrays;
+        let trough = level - scene.water.amplitude.abs() - scene.water.noise_amplitude.abs();
+        let from_above = camera_moves || camera_sees_surface_from_above(scene);
+        let surface_why = if camera_moves {
+            format!("the camera moves: created, and recorded in frames where it is above the lowest trough ({trough} m) and can see the surface from above")
+        } else if from_above {
+            format!(
+                "the camera (y = {} m) is above the lowest trough ({trough} m): it sees the surface from above",
+                scene.camera.position.y
+            )
+        } else {
+            format!(
+                "the camera (y = {} m) is under the lowest trough ({trough} m): it sees the surface only from below (Snell's window)",
+                scene.camera.position.y
+            )
+        };
         let mut decisions = vec![
             (
                 PassId::Shadow,
@@ -131,6 +173,8 @@ impl FramePlan {
                     "no photon pass needs the light's view".to_string()
                 },
             ),
+            (PassId::Refraction, from_above, format!("{surface_why}; the underwater part, with its caustics and godrays, for the surface to refract")),
+            (PassId::Reflection, from_above, format!("{surface_why}; the part above the water, mirrored, for the surface to reflect")),
             (PassId::Scene, true, "camera colour and depth are always needed".to_string()),
             (PassId::Caustics, caustics, caustics_why),
             (PassId::Godrays, godrays, godrays_why),
@@ -211,6 +255,9 @@ pub struct FrameOptions {
     /// How photons are generated and splatted (the geometry shader, or a peer it is measured
     /// against).
     pub photon_path: crate::passes::PhotonPath,
+    /// The camera may move anywhere between frames (the viewer): passes for both sides of the
+    /// water are created (`FramePlan::new`).
+    pub camera_moves: bool,
 }
 
 /// Filter kernel radii, pixels of each buffer. The caustic radius is about half the paper's
@@ -230,6 +277,8 @@ pub struct Frame {
     bounds: (glam::Vec3, glam::Vec3),
     // Passes before the resources they read: dropped first.
     pub shadow: Option<ShadowPass>,
+    pub refraction: Option<RefractionPass>,
+    pub reflection: Option<ReflectionPass>,
     pub scene_pass: ScenePass,
     pub caustics: Option<CausticsPass>,
     pub godrays: Option<GodraysPass>,
@@ -255,7 +304,7 @@ impl Frame {
         output_layout: vk::ImageLayout,
         options: FrameOptions,
     ) -> Result<Self> {
-        let plan = FramePlan::for_scene(scene);
+        let plan = FramePlan::new(scene, options.camera_moves);
         let extents = frame_extents(scene, output, device);
         let clamped = device_clamps(scene, &plan, device);
         let mut uniforms = Vec::with_capacity(FRAMES_IN_FLIGHT);
@@ -280,7 +329,11 @@ impl Frame {
         let nearest = Sampler::new(device, "nearest", vk::Filter::NEAREST)?;
         let linear = Sampler::new(device, "linear", vk::Filter::LINEAR)?;
         let shadow = if plan.runs(PassId::Shadow) { Some(ShadowPass::new(device, extents.light_map)?) } else { None };
-        let scene_pass = ScenePass::new(device, output)?;
+        let (refraction, reflection) = if plan.runs(PassId::Refraction) {
+            (Some(RefractionPass::new(device, output)?), Some(ReflectionPass::new(device, output)?))
+        } else {
+            (None, None)
+        };
         let caustics = if plan.runs(PassId::Caustics) {
             let e = &scene.effects;
             let ext = vk::Extent2D { width: extents.caustic[0], height: extents.caustic[1] };
@@ -304,19 +357,43 @@ impl Frame {
             (Some(g), true) => Some(FilterPass::new(device, "godrays filter", &g.target.image, GODRAY_FILTER_RADIUS_PX)?),
             _ => None,
         };
-        let compose = ComposePass::new(device, output, caustics.is_some(), godrays.is_some(), output_layout)?;
+        let surface = SurfaceInputs { through_surface: refraction.is_some(), caustics: caustics.is_some(), godrays: godrays.is_some() };
+        let scene_pass = ScenePass::new(device, output, surface)?;
+        let compose = ComposePass::new(device, output, caustics.is_some(), godrays.is_some(), surface.through_surface, output_layout)?;
+        // With the surface seen from above possible, the scene pass binds what the surface
+        // reads in every frame, also those that record it later (camera under the water) or
+        // never wrote it yet: all must be in the sampled layout from the start.
+        if let (Some(r), Some(m)) = (&refraction, &reflection) {
+            let mut images = vec![&r.color, &r.albedo, &r.depth, &m.color];
+            images.extend(caustics.as_ref().map(|c| &c.target.image));
+            images.extend(godrays.as_ref().map(|g| &g.target.image));
+            images.extend(caustic_filter.iter().chain(&godray_filter).map(|f| &f.output.image));
+            make_sampleable(device, "surface inputs to sampled layout", &images)?;
+        }
 
         // Each pass declared the bindings its shaders read; fill them from what this frame
         // made. A binding whose producer is not in the plan would be a bug in the plan.
         let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
         let tex = |image: &Image, sampler: &Sampler| Resource::Texture { view: image.view, sampler: sampler.raw, layout: read };
-        let resource = |binding: u32, frame: usize| -> Resource {
+        let refraction_image = |image: fn(&RefractionPass) -> &Image| {
+            image(refraction.as_ref().expect("plan: the surface reads the refraction pass the frame lacks"))
+        };
+        // `set`: a set index; photon passes have two per frame in flight (photon_set_index).
+        let resource = |binding: u32, set: usize| -> Resource {
+            let frame = set % FRAMES_IN_FLIGHT;
+            let through_surface = set >= FRAMES_IN_FLIGHT;
             match binding {
                 bindings::UNIFORMS => Resource::Uniform { buffer: uniforms[frame].raw, range: uniforms[frame].size },
                 bindings::NOISE => tex(&noise, &nearest),
                 bindings::LIGHT_POSITION => tex(&shadow.as_ref().expect("plan: photon passes need the shadow pass").position, &nearest),
                 bindings::LIGHT_NORMAL => tex(&shadow.as_ref().expect("plan: photon passes need the shadow pass").normal, &nearest),
+                // Photon passes test against the view the camera sees them in (photon_set_index).
+                bindings::SCENE_DEPTH if through_surface && refraction.is_some() => tex(refraction_image(|r| &r.depth), &nearest),
                 bindings::SCENE_DEPTH => tex(&scene_pass.depth, &nearest),
+                bindings::REFRACTION_COLOR => tex(refraction_image(|r| &r.color), &linear),
+                bindings::REFRACTION_ALBEDO => tex(refraction_image(|r| &r.albedo), &linear),
+                bindings::REFRACTION_DEPTH => tex(refraction_image(|r| &r.depth), &nearest),
+                bindings::REFLECTION_COLOR => tex(&reflection.as_ref().expect("plan: reflection").color, &linear),
                 bindings::SCENE_COLOR => tex(&scene_pass.color, &nearest),
                 bindings::ALBEDO_TRANSMITTANCE => tex(&scene_pass.albedo_transmittance, &nearest),
                 // Effect targets are smaller than the output: upsample bilinearly. Compose reads
@@ -334,27 +411,31 @@ impl Frame {
                 other => panic!("no resource for binding {other}"),
             }
         };
-        let mut pass_sets: Vec<(&DescriptorSets, Vec<(u32, Binding)>)> = vec![
-            (&scene_pass.sets, crate::passes::scene::BINDINGS.to_vec()),
-            (&compose.sets, ComposePass::bindings(caustics.is_some(), godrays.is_some())),
+        let mut pass_sets: Vec<(&DescriptorSets, Vec<(u32, Binding)>, usize)> = vec![
+            (&scene_pass.sets, surface.bindings(), FRAMES_IN_FLIGHT),
+            (&compose.sets, ComposePass::bindings(caustics.is_some(), godrays.is_some()), FRAMES_IN_FLIGHT),
         ];
+        if let (Some(r), Some(m)) = (&refraction, &reflection) {
+            pass_sets.push((&r.sets, crate::passes::refraction::BINDINGS.to_vec(), FRAMES_IN_FLIGHT));
+            pass_sets.push((&m.sets, crate::passes::reflection::BINDINGS.to_vec(), FRAMES_IN_FLIGHT));
+        }
         if let Some(s) = &shadow {
-            pass_sets.push((&s.sets, crate::passes::shadow::BINDINGS.to_vec()));
+            pass_sets.push((&s.sets, crate::passes::shadow::BINDINGS.to_vec(), FRAMES_IN_FLIGHT));
         }
         if let Some(c) = &caustics {
-            pass_sets.push((&c.sets, crate::passes::caustics::BINDINGS.to_vec()));
+            pass_sets.push((&c.sets, crate::passes::caustics::BINDINGS.to_vec(), PHOTON_SETS));
             if let Some(records) = &c.photon_records {
-                for frame in 0..FRAMES_IN_FLIGHT {
+                for frame in 0..PHOTON_SETS {
                     let r = Resource::Storage { buffer: records.raw, range: records.size };
                     c.sets.write_at(frame, vec![(bindings::PHOTON_DEBUG as usize, r)]);
                 }
             }
         }
         if let Some(g) = &godrays {
-            pass_sets.push((&g.sets, crate::passes::godrays::BINDINGS.to_vec()));
+            pass_sets.push((&g.sets, crate::passes::godrays::BINDINGS.to_vec(), PHOTON_SETS));
         }
-        for (sets, list) in pass_sets {
-            for frame in 0..FRAMES_IN_FLIGHT {
+        for (sets, list, count) in pass_sets {
+            for frame in 0..count {
                 sets.write_at(frame, list.iter().map(|(b, _)| (*b as usize, resource(*b, frame))).collect());
             }
         }
@@ -376,6 +457,8 @@ impl Frame {
             scene: scene.clone(),
             bounds: scene.bounds(),
             shadow,
+            refraction,
+            reflection,
             scene_pass,
             caustics,
             godrays,
@@ -402,8 +485,14 @@ impl Frame {
 
     /// Writes this frame's uniforms (the slot's fence has signalled, so its buffer is free)
     /// and records the passes through the slot's timer.
+    ///
+    /// With the camera able to see the surface from above (and the passes for it), the
+    /// photons go into the refraction view before the scene pass, whose surface reads them;
+    /// otherwise the scene pass comes first and the photons are tested against its depth.
     pub fn record(&mut self, slot: &mut FrameSlot, time: f32) {
-        let u = FrameUniforms::new(&self.scene, self.bounds, &self.extents, time);
+        let through_surface = self.refraction.is_some() && camera_sees_surface_from_above(&self.scene);
+        let mut u = FrameUniforms::new(&self.scene, self.bounds, &self.extents, time);
+        u.water4[3] = if through_surface { 1.0 } else { 0.0 };
         if let Some(bytes) = self.uniforms[slot.index].mapped_mut() {
             bytes.copy_from_slice(bytemuck::bytes_of(&u));
         }
@@ -411,12 +500,18 @@ impl Frame {
         if let Some(shadow) = &self.shadow {
             slot.timer.pass(cmd, PassId::Shadow, |cmd| shadow.record(cmd, i, &self.meshes));
         }
-        slot.timer.pass(cmd, PassId::Scene, |cmd| self.scene_pass.record(cmd, i, &self.meshes));
+        let refraction = self.refraction.as_ref().filter(|_| through_surface);
+        if let Some(refraction) = refraction {
+            slot.timer.pass(cmd, PassId::Refraction, |cmd| refraction.record(cmd, i, &self.meshes));
+        } else {
+            slot.timer.pass(cmd, PassId::Scene, |cmd| self.scene_pass.record(cmd, i, &self.meshes));
+        }
+        let photon_set = photon_set_index(i, through_surface);
         if let Some(caustics) = &self.caustics {
-            slot.timer.pass(cmd, PassId::Caustics, |cmd| caustics.record(cmd, i));
+            slot.timer.pass(cmd, PassId::Caustics, |cmd| caustics.record(cmd, photon_set));
         }
         if let Some(godrays) = &self.godrays {
-            slot.timer.pass(cmd, PassId::Godrays, |cmd| godrays.record(cmd, i));
+            slot.timer.pass(cmd, PassId::Godrays, |cmd| godrays.record(cmd, photon_set));
         }
         if self.caustic_filter.is_some() || self.godray_filter.is_some() {
             slot.timer.pass(cmd, PassId::Filter, |cmd| {
@@ -424,6 +519,10 @@ impl Frame {
                     f.record(cmd, i);
                 }
             });
+        }
+        if let (Some(_), Some(reflection)) = (refraction, &self.reflection) {
+            slot.timer.pass(cmd, PassId::Reflection, |cmd| reflection.record(cmd, i, &self.meshes));
+            slot.timer.pass(cmd, PassId::Scene, |cmd| self.scene_pass.record(cmd, i, &self.meshes));
         }
         slot.timer.pass(cmd, PassId::Compose, |cmd| self.compose.record(cmd, i));
     }

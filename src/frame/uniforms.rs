@@ -17,6 +17,8 @@ pub struct FrameUniforms {
     pub camera_view_proj: [[f32; 4]; 4],
     pub light_view_proj: [[f32; 4]; 4],
     pub light_inv_view_proj: [[f32; 4]; 4],
+    /// Pixel rays: compose and the background find where each starts (above or under water).
+    pub camera_inv_view_proj: [[f32; 4]; 4],
     pub camera_pos: [f32; 4],
     pub camera_params: [f32; 4],
     pub light_pos: [f32; 4],
@@ -31,10 +33,11 @@ pub struct FrameUniforms {
     pub effect1: [f32; 4],
     pub effect2: [f32; 4],
     pub effect3: [f32; 4],
-    /// The water's phase at this time (`shader_math::water_phase`); w unused.
+    /// The water's phase at this time (`shader_math::water_phase`); w: 1 when the frame
+    /// records the refraction and reflection passes (set by `Frame::record`).
     pub water4: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 3 * 64 + 15 * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 4 * 64 + 15 * 16);
 
 /// Sizes of the frame's targets and the device limits the shaders clamp to.
 #[derive(Clone, Copy, Debug)]
@@ -255,6 +258,7 @@ impl FrameUniforms {
             camera_view_proj: (proj * view).to_cols_array_2d(),
             light_view_proj: light.view_proj.to_cols_array_2d(),
             light_inv_view_proj: light.view_proj.inverse().to_cols_array_2d(),
+            camera_inv_view_proj: (proj * view).inverse().to_cols_array_2d(),
             camera_pos: [c.position.x, c.position.y, c.position.z, time],
             camera_params: [c.z_near, c.z_far, (0.5 * c.fov_y_degrees.to_radians()).tan(), aspect],
             light_pos: [light.position.x, light.position.y, light.position.z, kind],

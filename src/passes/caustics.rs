@@ -7,9 +7,8 @@ use crate::error::{Error, Result};
 use crate::shader_math::MAX_SUBDIVISION;
 use crate::frame::bindings as b;
 use crate::passes::photon_accumulation::{dispatch_per_photon, require_float_atomics, AtomicAccumulation};
-use crate::passes::{require_accumulation_format, PhotonPath, ACCUMULATION_FORMAT};
+use crate::passes::{require_accumulation_format, PhotonPath, ACCUMULATION_FORMAT, PHOTON_SETS};
 use crate::vk::buffer::Buffer;
-use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets, Resource};
 use crate::vk::device::Device;
 use crate::vk::pipeline::{Blend, ComputePipelineDesc, GraphicsPipelineDesc, Pipeline};
@@ -52,7 +51,7 @@ pub struct CausticsPass {
     accumulation: Option<AtomicAccumulation>,
     splat_floor: Option<SplatFloor>,
     pub target: ColorTarget,
-    /// This pass's descriptor sets (one per frame in flight), written by the frame.
+    /// This pass's descriptor sets (`passes::photon_set_index`), written by the frame.
     pub sets: DescriptorSets,
     device: Arc<Device>,
 }
@@ -96,7 +95,7 @@ impl CausticsPass {
             (PhotonPath::SplatFloor, _) => bindings.push((b::SPLAT_RECORDS, Binding::Storage)),
             _ => {}
         }
-        let sets = DescriptorSets::new(device, "caustics", &bindings, FRAMES_IN_FLIGHT as u32)?;
+        let sets = DescriptorSets::new(device, "caustics", &bindings, PHOTON_SETS as u32)?;
         let photon_records = if record_photons {
             Some(Buffer::new(
                 device,
@@ -178,7 +177,7 @@ impl CausticsPass {
             _ => None,
         };
         if let (Some(resource), Some(binding)) = (own, bindings.get(BINDINGS.len())) {
-            for frame in 0..FRAMES_IN_FLIGHT {
+            for frame in 0..PHOTON_SETS {
                 sets.write_at(frame, vec![(binding.0 as usize, resource)]);
             }
         }
@@ -200,9 +199,11 @@ impl CausticsPass {
         (self.grid as u64 * self.subdivision as u64).pow(2)
     }
 
-    pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize) {
+    /// `set_index`: the frame in flight and the depth the photons are tested against
+    /// (`passes::photon_set_index`).
+    pub fn record(&self, cmd: vk::CommandBuffer, set_index: usize) {
         let dev = &self.device;
-        let set = Some(self.sets.sets[frame_index]);
+        let set = Some(self.sets.sets[set_index]);
         let grid = self.grid.to_ne_bytes();
         if let Some(acc) = &self.accumulation {
             acc.record_clear(cmd);

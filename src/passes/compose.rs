@@ -1,5 +1,6 @@
 //! Compose pass (method step 8): scene colour + caustics × albedo/π × transmittance +
-//! godrays, tonemapped into an sRGB target. The shader variant is chosen by which effects the
+//! godrays + the glow of the water's highlights (when the surface can be seen from above),
+//! tonemapped into an sRGB target. The shader variant is chosen by which effects the
 //! frame has, so a missing effect's target is never bound.
 
 use crate::error::Result;
@@ -25,7 +26,8 @@ pub struct ComposePass {
 impl ComposePass {
     /// What the chosen compose variant reads: only the targets the frame has.
     pub fn bindings(caustics: bool, godrays: bool) -> Vec<(u32, Binding)> {
-        let mut v = vec![(b::UNIFORMS, Binding::Uniform), (b::SCENE_COLOR, Binding::Texture)];
+        // The noise: each pixel's side of the water (whether godrays add) follows the waves.
+        let mut v = vec![(b::UNIFORMS, Binding::Uniform), (b::NOISE, Binding::Texture), (b::SCENE_COLOR, Binding::Texture)];
         if caustics {
             v.push((b::ALBEDO_TRANSMITTANCE, Binding::Texture));
             v.push((b::CAUSTICS, Binding::Texture));
@@ -41,6 +43,7 @@ impl ComposePass {
         extent: vk::Extent2D,
         caustics: bool,
         godrays: bool,
+        glow: bool,
         final_layout: vk::ImageLayout,
     ) -> Result<Self> {
         let sets = DescriptorSets::new(device, "compose", &Self::bindings(caustics, godrays), FRAMES_IN_FLIGHT as u32)?;
@@ -55,6 +58,7 @@ impl ComposePass {
             device,
             &GraphicsPipelineDesc {
                 set_layouts: &[sets.layout],
+                specialization: &[(0, glow as u32)],
                 ..GraphicsPipelineDesc::new("compose", "fullscreen.vert", fragment, output.render_pass.raw)
             },
         )?;

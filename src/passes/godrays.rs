@@ -6,9 +6,8 @@
 use crate::error::{Error, Result};
 use crate::frame::bindings as b;
 use crate::passes::photon_accumulation::{dispatch_per_photon, require_float_atomics, AtomicAccumulation};
-use crate::passes::{require_accumulation_format, PhotonPath, ACCUMULATION_FORMAT};
+use crate::passes::{require_accumulation_format, PhotonPath, ACCUMULATION_FORMAT, PHOTON_SETS};
 use crate::shader_math::GODRAY_MAX_SUBDIVISION;
-use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
 use crate::vk::pipeline::{Blend, ComputePipelineDesc, GraphicsPipelineDesc, Pipeline};
@@ -37,6 +36,7 @@ pub struct GodraysPass {
     pipeline: Pipeline,
     accumulation: Option<AtomicAccumulation>,
     pub target: ColorTarget,
+    /// This pass's descriptor sets (`passes::photon_set_index`), written by the frame.
     pub sets: DescriptorSets,
     device: Arc<Device>,
 }
@@ -67,7 +67,7 @@ impl GodraysPass {
         if path == PhotonPath::Compute {
             bindings.push((b::PHOTON_ACCUMULATION, Binding::Storage));
         }
-        let sets = DescriptorSets::new(device, "godrays", &bindings, FRAMES_IN_FLIGHT as u32)?;
+        let sets = DescriptorSets::new(device, "godrays", &bindings, PHOTON_SETS as u32)?;
         let target = ColorTarget::new(device, "godrays", extent, ACCUMULATION_FORMAT, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)?;
         let specialization = [(0, subdivision)];
         let set_layouts = [sets.layout];
@@ -87,7 +87,7 @@ impl GodraysPass {
             }
             PhotonPath::Compute => {
                 let accumulation = AtomicAccumulation::new(device, "godrays", &target)?;
-                for frame in 0..FRAMES_IN_FLIGHT {
+                for frame in 0..PHOTON_SETS {
                     sets.write_at(frame, vec![(b::PHOTON_ACCUMULATION as usize, accumulation.resource())]);
                 }
                 let desc = ComputePipelineDesc {
@@ -110,9 +110,11 @@ impl GodraysPass {
         Ok(Self { path, grid, subdivision, line_width, pipeline, accumulation, target, sets, device: device.clone() })
     }
 
-    pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize) {
+    /// `set_index`: the frame in flight and the depth the photons are tested against
+    /// (`passes::photon_set_index`).
+    pub fn record(&self, cmd: vk::CommandBuffer, set_index: usize) {
         let dev = &self.device;
-        let set = Some(self.sets.sets[frame_index]);
+        let set = Some(self.sets.sets[set_index]);
         let photons = (self.grid as u64 * self.subdivision as u64).pow(2);
         if let Some(acc) = &self.accumulation {
             acc.record_clear(cmd);

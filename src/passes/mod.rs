@@ -7,6 +7,8 @@ pub mod filter;
 pub mod godrays;
 pub mod grid_splat;
 pub mod photon_accumulation;
+pub mod reflection;
+pub mod refraction;
 pub mod scene;
 pub mod shadow;
 
@@ -34,6 +36,18 @@ pub fn require_accumulation_format(device: &Arc<Device>, target: &'static str) -
         return Err(Error::MissingFeatures { device: device.info.name.clone(), missing: vec![target] });
     }
     Ok(())
+}
+
+/// Descriptor sets of each photon pass: one per frame in flight and per depth its splats and
+/// beams are tested against. The camera under the water sees receivers directly (the scene
+/// pass's depth); above it, through the surface (the refraction pass's depth, the view the
+/// surface refracts). A frame picks one by where the camera is, so crossing the waterline
+/// rebuilds nothing.
+pub const PHOTON_SETS: usize = 2 * crate::vk::commands::FRAMES_IN_FLIGHT;
+
+/// The photon passes' set for a frame in flight and the depth they test against.
+pub fn photon_set_index(frame_index: usize, through_surface: bool) -> usize {
+    frame_index + if through_surface { crate::vk::commands::FRAMES_IN_FLIGHT } else { 0 }
 }
 
 /// How the photon passes generate and splat their photons. The geometry shader is the
@@ -74,6 +88,10 @@ impl PhotonPath {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum PassId {
     Shadow,
+    /// The underwater view the surface refracts (camera above the water only).
+    Refraction,
+    /// The mirrored view the surface reflects (camera above the water only).
+    Reflection,
     Scene,
     Caustics,
     Godrays,
@@ -88,8 +106,10 @@ pub enum PassId {
 }
 
 impl PassId {
-    pub const ALL: [PassId; 9] = [
+    pub const ALL: [PassId; 11] = [
         PassId::Shadow,
+        PassId::Refraction,
+        PassId::Reflection,
         PassId::Scene,
         PassId::Caustics,
         PassId::Godrays,
@@ -109,6 +129,8 @@ impl PassId {
     pub fn label(self) -> &'static CStr {
         match self {
             PassId::Shadow => c"shadow",
+            PassId::Refraction => c"refraction",
+            PassId::Reflection => c"reflection",
             PassId::Scene => c"scene",
             PassId::Caustics => c"caustics",
             PassId::Godrays => c"godrays",

@@ -1,11 +1,13 @@
 //! Scene pass (method step 3): the scene from the camera into off-screen colour (ambient and
 //! above-water sun, attenuated by the water on the way to the camera), the factor caustics
 //! are multiplied by in compose (albedo/π × transmittance), and depth, which caustics and
-//! godrays are tested against. The water surface is drawn here too, as a displaced grid.
+//! godrays are tested against when the camera is under the water. Drawn in order: the
+//! background (sky or the water's glow, per pixel), the meshes, and the water surface as a
+//! displaced grid, shaded from whichever side each pixel sees it (`glsl/water.glsl`).
 
 use crate::error::Result;
-use crate::frame::mesh::{GpuMeshes, MeshVertex, MESH_ATTRIBUTES};
 use crate::frame::bindings as b;
+use crate::frame::mesh::{GpuMeshes, MeshVertex, MESH_ATTRIBUTES};
 use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
@@ -15,13 +17,88 @@ use crate::vk::render_pass::{Attachment, Load, RenderPass};
 use ash::vk;
 use std::sync::Arc;
 
-/// What the scene pass's shaders read: the water surface's vertex shader samples the noise.
-pub const BINDINGS: &[(u32, Binding)] = &[(b::UNIFORMS, Binding::Uniform), (b::NOISE, Binding::Texture)];
-
 /// Cells per axis of the water-surface grid.
 pub const WATER_GRID_CELLS: u32 = 128;
 
+/// Format of the scene's colour targets (this pass's and the refraction and reflection
+/// passes'): radiance in W/(m²·sr), well beyond 8 bits' range.
+pub const COLOR_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
+
+/// Which view a mesh draw renders (`glsl/view.glsl`, specialization constant 0).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum View {
+    Camera = 0,
+    Refraction = 1,
+    Reflection = 2,
+}
+
+/// The meshes' pipeline for one view: opaque, depth-tested, into colour and (`attachments`
+/// = 2) albedo×transmittance, or colour only (1, reflection.frag).
+pub fn mesh_pipeline(
+    device: &Arc<Device>,
+    name: &str,
+    view: View,
+    attachments: u32,
+    set_layout: vk::DescriptorSetLayout,
+    render_pass: vk::RenderPass,
+) -> Result<Pipeline> {
+    Pipeline::graphics(
+        device,
+        &GraphicsPipelineDesc {
+            color_attachments: attachments,
+            depth_test: true,
+            depth_write: true,
+            set_layouts: &[set_layout],
+            specialization: &[(0, view as u32)],
+            vertex_stride: std::mem::size_of::<MeshVertex>() as u32,
+            vertex_attributes: &MESH_ATTRIBUTES,
+            ..GraphicsPipelineDesc::new(name, "mesh.vert", if attachments == 2 { "scene.frag" } else { "reflection.frag" }, render_pass)
+        },
+    )
+}
+
+/// What the frame gives the water surface to shade it from above.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SurfaceInputs {
+    /// The refraction and reflection passes exist.
+    pub through_surface: bool,
+    /// Their caustic / godray buffers, refracted with the floor.
+    pub caustics: bool,
+    pub godrays: bool,
+}
+
+impl SurfaceInputs {
+    fn water_fragment(self) -> &'static str {
+        match (self.through_surface, self.caustics, self.godrays) {
+            (false, _, _) => "water.frag",
+            (true, false, false) => "water_above.frag",
+            (true, true, false) => "water_above_caustics.frag",
+            (true, false, true) => "water_above_godrays.frag",
+            (true, true, true) => "water_above_caustics_godrays.frag",
+        }
+    }
+
+    /// What the pass's shaders read: the noise for the surface's shape and each pixel's side,
+    /// and what the surface refracts and reflects when seen from above.
+    pub fn bindings(self) -> Vec<(u32, Binding)> {
+        let mut v = vec![(b::UNIFORMS, Binding::Uniform), (b::NOISE, Binding::Texture)];
+        if self.through_surface {
+            for binding in [b::REFRACTION_COLOR, b::REFRACTION_ALBEDO, b::REFRACTION_DEPTH, b::REFLECTION_COLOR] {
+                v.push((binding, Binding::Texture));
+            }
+            if self.caustics {
+                v.push((b::CAUSTICS, Binding::Texture));
+            }
+            if self.godrays {
+                v.push((b::GODRAYS, Binding::Texture));
+            }
+        }
+        v
+    }
+}
+
 pub struct ScenePass {
+    background_pipeline: Pipeline,
     mesh_pipeline: Pipeline,
     water_pipeline: Pipeline,
     render_pass: RenderPass,
@@ -34,12 +111,11 @@ pub struct ScenePass {
 }
 
 impl ScenePass {
-    pub fn new(device: &Arc<Device>, extent: vk::Extent2D) -> Result<Self> {
-        let sets = DescriptorSets::new(device, "scene", BINDINGS, FRAMES_IN_FLIGHT as u32)?;
+    pub fn new(device: &Arc<Device>, extent: vk::Extent2D, surface: SurfaceInputs) -> Result<Self> {
+        let sets = DescriptorSets::new(device, "scene", &surface.bindings(), FRAMES_IN_FLIGHT as u32)?;
         let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC;
-        let color = Image::new(device, "scene colour", extent, vk::Format::R16G16B16A16_SFLOAT, usage)?;
-        let albedo_transmittance =
-            Image::new(device, "scene albedo×transmittance", extent, vk::Format::R16G16B16A16_SFLOAT, usage)?;
+        let color = Image::new(device, "scene colour", extent, COLOR_FORMAT, usage)?;
+        let albedo_transmittance = Image::new(device, "scene albedo×transmittance", extent, COLOR_FORMAT, usage)?;
         let depth = Image::new(
             device,
             "scene depth",
@@ -52,45 +128,57 @@ impl ScenePass {
             device,
             "scene",
             &[
-                Attachment { image: &color, load: Load::Clear([0.0, 0.0, 0.0, 1.0]), final_layout: read },
+                // Every pixel is drawn (the background covers the target), so the clear
+                // values only matter to a broken draw.
+                Attachment { image: &color, load: Load::Clear([0.0, 0.0, 0.0, 0.0]), final_layout: read },
                 Attachment { image: &albedo_transmittance, load: Load::Clear([0.0; 4]), final_layout: read },
             ],
             Some(&Attachment { image: &depth, load: Load::Clear([1.0; 4]), final_layout: read }),
         )?;
-        // Both draw into colour + albedo×transmittance with depth test and write.
         let layouts = [sets.layout];
-        let opaque_with_depth = |name, vertex, fragment| GraphicsPipelineDesc {
-            color_attachments: 2,
-            depth_test: true,
-            depth_write: true,
-            set_layouts: &layouts,
-            ..GraphicsPipelineDesc::new(name, vertex, fragment, render_pass.raw)
-        };
-        let mesh_pipeline = Pipeline::graphics(
+        let background_pipeline = Pipeline::graphics(
             device,
             &GraphicsPipelineDesc {
-                vertex_stride: std::mem::size_of::<MeshVertex>() as u32,
-                vertex_attributes: &MESH_ATTRIBUTES,
-                ..opaque_with_depth("scene meshes", "mesh.vert", "scene.frag")
+                color_attachments: 2,
+                set_layouts: &layouts,
+                ..GraphicsPipelineDesc::new("background", "fullscreen.vert", "background.frag", render_pass.raw)
             },
         )?;
+        let mesh_pipeline = mesh_pipeline(device, "scene meshes", View::Camera, 2, sets.layout, render_pass.raw)?;
         let water_pipeline = Pipeline::graphics(
             device,
             &GraphicsPipelineDesc {
+                color_attachments: 2,
+                depth_test: true,
+                depth_write: true,
+                set_layouts: &layouts,
                 specialization: &[(0, WATER_GRID_CELLS)],
-                ..opaque_with_depth("water surface", "water.vert", "water.frag")
+                ..GraphicsPipelineDesc::new("water surface", "water.vert", surface.water_fragment(), render_pass.raw)
             },
         )?;
-        Ok(Self { mesh_pipeline, water_pipeline, render_pass, color, albedo_transmittance, depth, sets, device: device.clone() })
+        Ok(Self {
+            background_pipeline,
+            mesh_pipeline,
+            water_pipeline,
+            render_pass,
+            color,
+            albedo_transmittance,
+            depth,
+            sets,
+            device: device.clone(),
+        })
     }
 
     pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize, meshes: &GpuMeshes) {
         let dev = &self.device;
         let set = self.sets.sets[frame_index];
         self.render_pass.begin(cmd);
-        self.mesh_pipeline.bind(cmd, Some(set));
+        // No depth test or write: what follows draws over it.
+        self.background_pipeline.bind(cmd, Some(set));
+        unsafe { dev.raw.cmd_draw(cmd, 3, 1, 0, 0) };
+        // Same set layout: set 0 stays bound across the pipeline changes.
+        self.mesh_pipeline.bind(cmd, None);
         meshes.draw(dev, cmd);
-        // Same set layout: set 0 stays bound across the pipeline change.
         self.water_pipeline.bind(cmd, None);
         unsafe { dev.raw.cmd_draw(cmd, 6 * WATER_GRID_CELLS * WATER_GRID_CELLS, 1, 0, 0) };
         self.render_pass.end(cmd);

@@ -278,7 +278,8 @@ impl Live {
     fn rebuild_frame(&mut self, extent: vk::Extent2D) -> Result<()> {
         self.ctx.device.wait_idle()?;
         self.frame = None;
-        let frame = Frame::new(&self.ctx.device, &self.scene, extent, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, FrameOptions::default())?;
+        let options = FrameOptions { camera_moves: true, ..FrameOptions::default() };
+        let frame = Frame::new(&self.ctx.device, &self.scene, extent, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, options)?;
         // Settings beyond what the device can draw (point sizes, line width) are clamped;
         // say so once per change, not on every resize.
         if frame.clamped != self.reported_clamps {

@@ -164,6 +164,7 @@ impl Device {
             shader_tessellation_and_geometry_point_size: vk::TRUE,
             large_points: vk::TRUE,
             wide_lines: vk::TRUE,
+            shader_clip_distance: vk::TRUE,
             // Optional: lets the caustics pass record every photon for tests and debugging.
             vertex_pipeline_stores_and_atomics: info.capabilities.features.vertex_pipeline_stores_and_atomics,
             ..Default::default()

@@ -32,6 +32,8 @@ pub fn missing_features(caps: &DeviceCapabilities) -> Vec<&'static str> {
         (f.shader_tessellation_and_geometry_point_size, "shaderTessellationAndGeometryPointSize"),
         (f.large_points, "largePoints"),
         (f.wide_lines, "wideLines"),
+        // The refraction and reflection passes cut the scene at the water with a clip plane.
+        (f.shader_clip_distance, "shaderClipDistance"),
         (caps.synchronization2 as vk::Bool32, "synchronization2"),
     ];
     for (have, name) in checks {
@@ -59,6 +61,7 @@ mod tests {
                 shader_tessellation_and_geometry_point_size: vk::TRUE,
                 large_points: vk::TRUE,
                 wide_lines: vk::TRUE,
+                shader_clip_distance: vk::TRUE,
                 ..Default::default()
             },
             synchronization2: true,

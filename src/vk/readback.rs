@@ -36,26 +36,31 @@ impl Readback {
         Ok(Self { buffer, extent: image.extent, format: image.format, device: device.clone() })
     }
 
-    /// Records the copy of an image that a later frame will overwrite from scratch, currently
-    /// in `layout`: transitions it to TRANSFER_SRC_OPTIMAL first (after everything before).
+    /// Records the copy of an image currently in `layout`: transitions it to
+    /// TRANSFER_SRC_OPTIMAL first (after everything before) and back to `layout` after the
+    /// copy, as a later frame may sample it before any pass rewrites it (the water surface
+    /// binds the photon buffers in every frame).
     pub fn record_from(&self, cmd: vk::CommandBuffer, image: &Image, layout: vk::ImageLayout) {
-        if layout != vk::ImageLayout::TRANSFER_SRC_OPTIMAL {
-            let to_src = [vk::ImageMemoryBarrier2::default()
+        let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+        let barrier = |from: vk::ImageLayout, to: vk::ImageLayout| {
+            [vk::ImageMemoryBarrier2::default()
                 .src_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
-                .src_access_mask(vk::AccessFlags2::MEMORY_WRITE)
-                .dst_stage_mask(vk::PipelineStageFlags2::COPY)
-                .dst_access_mask(vk::AccessFlags2::TRANSFER_READ)
-                .old_layout(layout)
-                .new_layout(vk::ImageLayout::TRANSFER_SRC_OPTIMAL)
+                .src_access_mask(vk::AccessFlags2::MEMORY_WRITE | vk::AccessFlags2::MEMORY_READ)
+                .dst_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
+                .dst_access_mask(vk::AccessFlags2::MEMORY_READ | vk::AccessFlags2::MEMORY_WRITE)
+                .old_layout(from)
+                .new_layout(to)
                 .image(image.raw)
-                .subresource_range(image.full_range())];
-            unsafe {
-                self.device
-                    .raw
-                    .cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(&to_src))
-            };
+                .subresource_range(image.full_range())]
+        };
+        let dev = &self.device.raw;
+        if layout != src {
+            unsafe { dev.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(&barrier(layout, src))) };
         }
         self.record(cmd, image);
+        if layout != src {
+            unsafe { dev.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(&barrier(src, layout))) };
+        }
     }
 
     /// The raw bytes copied (e.g. 8-bit sRGB texels). Call after the copy's fence signalled.

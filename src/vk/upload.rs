@@ -77,3 +77,27 @@ pub fn image_with_data(
     })?;
     Ok(image)
 }
+
+/// Moves freshly created images from UNDEFINED to SHADER_READ_ONLY_OPTIMAL, for images a
+/// pipeline binds before any pass has written them (their contents stay undefined: the
+/// shaders that bind them read them only in frames whose passes wrote them first).
+pub fn make_sampleable(device: &Device, name: &str, images: &[&Image]) -> Result<()> {
+    if images.is_empty() {
+        return Ok(());
+    }
+    let barriers: Vec<vk::ImageMemoryBarrier2> = images
+        .iter()
+        .map(|image| {
+            vk::ImageMemoryBarrier2::default()
+                .dst_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
+                .dst_access_mask(vk::AccessFlags2::SHADER_SAMPLED_READ)
+                .old_layout(vk::ImageLayout::UNDEFINED)
+                .new_layout(vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)
+                .image(image.raw)
+                .subresource_range(image.full_range())
+        })
+        .collect();
+    one_shot(device, name, |cmd| unsafe {
+        device.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(&barriers));
+    })
+}
