@@ -673,6 +673,8 @@ fn view(cli: &Cli, args: &ViewArgs) -> Result<i32> {
         paused: args.paused,
     })?;
     println!("presented {} frames", report.frames_presented);
+    let per_pass: Vec<String> = report.pass_frames.iter().map(|(id, n)| format!("{id} {n}")).collect();
+    println!("frames per pass: {}", per_pass.join(", "));
     if report.shutdown.is_clean() {
         Ok(0)
     } else {

@@ -115,6 +115,77 @@ fn fresnel_weight_follows_the_view_angle() {
     assert_clean_shutdown(ctx);
 }
 
+#[test]
+fn highlight_and_its_glow_follow_their_formulas() {
+    let ctx = validated_context();
+    let size = [64, 48];
+    // Straight down over flat water: the sun (16° from the zenith) is reflected inside the
+    // view, so its highlight and glow are in the image.
+    let mut down = flat(tank());
+    down.camera.position = Vec3::new(0.3, 1.0, 0.2);
+    down.camera.look_at = Vec3::new(0.3, -2.0, 0.2);
+    let (images, _) = render(&ctx, &down, size);
+    // The uniforms the frame used: the light's irradiance and direction, and the exposure.
+    let extents = underlight::frame::target_extents(&down, size, 64.0, 64.0);
+    let u = underlight::frame::uniforms::FrameUniforms::new(&down, down.bounds(), &extents, RENDER_TIME);
+    let (e_perp, exposure) = (u.light_flux[1], u.water3[3]);
+    let to_sun = -Vec3::from_slice(&u.light_dir[..3]).normalize();
+    // 1. The highlight (scene colour alpha): F · E⊥ · (n + 2)/(2π) · cos^n of the angle between
+    //    the reflected ray and the sun, n = 200.
+    let (mut peak, mut worst) = (0f32, 0f32);
+    for y in 0..size[1] {
+        for x in 0..size[0] {
+            let dir = pixel_ray(&down, size, x, y);
+            let measured = images.scene_color.at(x, y)[3];
+            if flat_water_hit(&down, dir).is_none() || images.albedo_transmittance.at(x, y)[3] <= 0.0 {
+                assert_eq!(measured, 0.0, "pixel ({x}, {y}) is no water seen from above but has a highlight");
+                continue;
+            }
+            let fresnel = 1.0 - underlight::shader_math::fresnel_transmittance(-dir.y, down.water.ior);
+            let r = Vec3::new(dir.x, -dir.y, dir.z);
+            let lobe = 202.0 / (2.0 * std::f32::consts::PI) * r.dot(to_sun).max(0.0).powf(200.0);
+            let expected = fresnel * e_perp * lobe;
+            let err = (measured - expected).abs();
+            assert!(err <= 2e-3 * expected + 1e-3 * e_perp, "pixel ({x}, {y}): highlight {measured}, formula {expected}");
+            worst = worst.max(err / e_perp);
+            peak = peak.max(expected);
+        }
+    }
+    // Within 1.9° of the lobe's centre somewhere (cos^200 > 1/2): the sun's reflection is in view.
+    let centre = (1.0 - underlight::shader_math::fresnel_transmittance(1.0, down.water.ior)) * e_perp * 202.0 / (2.0 * std::f32::consts::PI);
+    assert!(peak > 0.5 * centre, "the sun's reflection is not in view (peak {peak}, lobe centre {centre})");
+    // 2. The output: compose adds the glow, the highlights' mean over the 13 texels on the
+    //    diagonals of a 7×7 window (thesis §9.3), then tonemaps. Nothing else adds here: the
+    //    surface takes no caustics and every ray starts in the air (no godrays in compose).
+    let (w, h) = (size[0] as i32, size[1] as i32);
+    let alpha = |x: i32, y: i32| images.scene_color.at(x.clamp(0, w - 1) as u32, y.clamp(0, h - 1) as u32)[3];
+    let mut with_glow = images.scene_color.clone();
+    let mut without_glow = images.scene_color.clone();
+    for y in 0..h {
+        for x in 0..w {
+            let mut sum = 0.0;
+            for k in -3..=3 {
+                sum += alpha(x + k, y + k);
+                if k != 0 {
+                    sum += alpha(x + k, y - k);
+                }
+            }
+            let p = &mut with_glow.pixels[(y * w + x) as usize];
+            (0..3).for_each(|c| p[c] += sum / 13.0);
+            without_glow.pixels[(y * w + x) as usize][3] = 1.0;
+        }
+    }
+    let expected = underlight::image_io::tonemap_srgb8(&with_glow, exposure);
+    let unglowed = underlight::image_io::tonemap_srgb8(&without_glow, exposure);
+    let off = |a: &[u8]| a.iter().zip(&images.output).map(|(e, o)| (*e as i32 - *o as i32).abs()).max().unwrap_or(0);
+    let (err_glow, err_plain) = (off(&expected), off(&unglowed));
+    println!("highlight: peak {:.2} E⊥, worst error {worst:.1e} E⊥; output vs compose with glow: max {err_glow} levels, without: {err_plain}", peak / e_perp);
+    // The GPU's sRGB encode and the CPU's round differently by a level at most.
+    assert!(err_glow <= 1, "output differs from scene + glow by {err_glow} levels");
+    assert!(err_plain >= 4, "the glow changes the output by only {err_plain} levels: not visible");
+    assert_clean_shutdown(ctx);
+}
+
 /// Pearson correlation of two equally long series.
 fn correlation(a: &[f64], b: &[f64]) -> f64 {
     let n = a.len() as f64;

@@ -1,8 +1,9 @@
 //! The viewer in a real window under Xvfb, on the real driver with validation: a scripted
 //! session (resize, minimise/restore, toggles, water switch, camera moves, presets) presents
 //! exactly the frames it should and exits with zero validation messages; its screenshot
-//! matches the headless renderer's image of the same scene, camera and time; without a
-//! display it fails with a clear message.
+//! matches the headless renderer's image of the same scene, camera and time; a camera moved
+//! through the waterline renders from both sides; without a display it fails with a clear
+//! message.
 
 use std::path::Path;
 use std::process::{Command, Output};
@@ -92,6 +93,35 @@ fn viewer_sessions_under_xvfb() {
     let err = String::from_utf8_lossy(&out.stderr);
     let warnings = err.lines().filter(|l| l.starts_with("warning:") && l.contains("effects.line_width")).count();
     assert_eq!(warnings, 1, "the clamp is reported once, not on every resize:\n{err}");
+
+    // 4. Through the waterline and back: the camera levels its view, rises from 0.9 m under
+    //    the water to 0.35 m above it through the waves in 5 cm steps, and sinks again. The
+    //    refraction and reflection passes run in the frames above the water; every frame is
+    //    presented and no validation message is raised (under_xvfb checks).
+    let crossing = dir.join("crossing.png");
+    let mut steps = vec!["look:0/18".to_string(), "frames:1".into(), "move:0/0.6/0".into(), "frames:1".into()];
+    for _ in 0..13 {
+        steps.extend(["move:0/0.05/0".to_string(), "frames:1".into()]);
+    }
+    steps.extend([format!("screenshot:{}", crossing.display()), "move:0/-0.6/0".into(), "frames:2".into()]);
+    let out = under_xvfb(&["view", "--scene", "tank", "--width", "96", "--height", "72", "--script", &steps.join(",")]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("presented 17 frames"), "{stdout}");
+    // Timed frames per pass: the first `scene` frames (the last ones in flight are not timed
+    // before exit). Frame k (from 1) has the camera at y = −0.9, −0.3, then −0.25 + 0.05·(k − 3)
+    // up to frame 15 (+0.35 m), then −0.25 again. It can see the surface from above when
+    // y + 2·z_near ≥ the lowest trough (−0.04 m): frames 6 (y = −0.10) to 15.
+    let counts = stdout.lines().find_map(|l| l.strip_prefix("frames per pass: ")).unwrap_or_else(|| panic!("{stdout}"));
+    let count = |pass: &str| -> u64 {
+        counts.split(", ").find_map(|e| e.strip_prefix(&format!("{pass} "))).map_or(0, |n| n.parse().unwrap())
+    };
+    let timed = count("scene");
+    assert!(timed >= 10, "{counts}");
+    let above = timed.min(15).saturating_sub(5);
+    for pass in ["refraction", "reflection"] {
+        assert_eq!(count(pass), above, "{pass} should run in the {above} timed frames above the water: {counts}");
+    }
+    assert_eq!(png_rgba(&crossing).0, 96, "the screenshot above the water");
     std::fs::remove_dir_all(&dir).ok();
 }
 

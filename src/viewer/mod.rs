@@ -56,6 +56,10 @@ pub struct ViewerOptions {
 /// What a viewer session ended with.
 pub struct ViewerReport {
     pub frames_presented: u64,
+    /// Frames in which each pass was recorded (passes that never ran are left out), in
+    /// `PassId::ALL` order: the water's refraction and reflection only in frames whose camera
+    /// was above the water.
+    pub pass_frames: Vec<(PassId, u64)>,
     pub shutdown: ShutdownReport,
 }
 
@@ -74,11 +78,16 @@ pub fn run(options: ViewerOptions) -> Result<ViewerReport> {
         }
         return Err(e);
     }
+    let mut counts = [0u64; PassId::ALL.len()];
     let shutdown = match app.live.take() {
-        Some(live) => live.shutdown(),
+        Some(live) => {
+            counts = live.pass_frames;
+            live.shutdown()
+        }
         None => app.report.take().unwrap_or_default(),
     };
-    Ok(ViewerReport { frames_presented: app.presented, shutdown })
+    let pass_frames = PassId::ALL.into_iter().zip(counts).filter(|(_, n)| *n > 0).collect();
+    Ok(ViewerReport { frames_presented: app.presented, pass_frames, shutdown })
 }
 
 struct App {
@@ -118,6 +127,8 @@ struct Live {
     frames_rendered: u64,
     pending_screenshot: Option<PathBuf>,
     timings: VecDeque<PassTimings>,
+    /// Frames each pass was recorded in, indexed as `PassId::ALL`.
+    pass_frames: [u64; PassId::ALL.len()],
     last_report: Instant,
     frames_since_report: u32,
 }
@@ -244,6 +255,7 @@ impl Live {
             frames_rendered: 0,
             pending_screenshot: None,
             timings: VecDeque::with_capacity(TIMING_WINDOW),
+            pass_frames: [0; PassId::ALL.len()],
             last_report: Instant::now(),
             frames_since_report: 0,
         };
@@ -555,6 +567,11 @@ impl Live {
                 PassTimings::default()
             };
             entry.passes.clone_from(&t.passes);
+            for (id, _) in &entry.passes {
+                if let Some(i) = PassId::ALL.iter().position(|p| p == id) {
+                    self.pass_frames[i] += 1;
+                }
+            }
             self.timings.push_back(entry);
         }
         let ok = swapchain.present(image_index)?;
