@@ -24,6 +24,7 @@ layout(set = 0, binding = 0, std140) uniform FrameUniforms {
     vec4 effect2;          // device point size max, device line width max, caustic target w, h
     vec4 effect3;          // godray target w, h, output w, h
     vec4 water4;           // xyz: the water's phase at this frame's time (common.glsl, water_height_grad); w: 1 if this frame recorded the refraction and reflection passes
+    vec4 camera_water;     // x: the surface's height above the level at the camera's xz; yz: its gradient (the CPU twin's, for the pixels' side, underwater.glsl); w unused
 } frame;
 
 WaterParams frame_water() {

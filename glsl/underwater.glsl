@@ -4,26 +4,19 @@
 #include "frame.glsl"
 #include "frame_textures.glsl"
 
-#include "noise_texture.glsl"
-
-// Highest crest and lowest trough the surface can reach (the noise stays within ±1).
-float water_crest() { return frame.water0.x + abs(frame.water0.y) + abs(frame.water1.x); }
-float water_trough() { return frame.water0.x - abs(frame.water0.y) - abs(frame.water1.x); }
-
 // Whether the camera ray in unit direction `dir` starts under the water. Decided where the
-// ray leaves the near plane, against the surface's true height there, not by the camera's
-// side of the mean plane: a camera at the waterline sees part of the image from each side,
-// and every pass that asks (scene, background, compose) must split the image along the same
-// line, or a band of pixels gets the other medium's shading (a seam).
+// ray leaves the near plane, against the surface's height there, not by the camera's side of
+// the mean plane: a camera at the waterline sees part of its image from each side, and every
+// pass that asks (scene, background, godrays, compose) must split the image along the same
+// line, or a band of pixels gets the other medium's shading (a seam). The near plane's points
+// lie within a few centimetres of the camera, so the surface there is its tangent plane at the
+// camera (frame.camera_water, from the CPU twin): no texture reads, which a CPU rasteriser
+// would pay on every fragment even where a branch skips them.
 bool view_ray_starts_under(vec3 dir) {
     vec3 c = frame.camera_pos.xyz;
-    float near = frame.camera_params.x;
-    // Far from the waves the answer is the same for every pixel: skip the height lookup.
-    if (c.y - near > water_crest()) return false;
-    if (c.y + near < water_trough()) return true;
-    vec3 start = c + dir * (near / max(dot(dir, camera_forward()), 1e-3));
-    WaterParams w = frame_water();
-    return start.y < w.level + water_height_grad(w, noise_tex, start.xz, frame_water_phase()).x;
+    vec3 start = c + dir * (frame.camera_params.x / max(dot(dir, camera_forward()), 1e-3));
+    float surface = frame.water0.x + frame.camera_water.x + dot(frame.camera_water.yz, start.xz - c.xz);
+    return start.y < surface;
 }
 
 // Unit camera ray through a pixel at uv (0..1 over the target).

@@ -308,10 +308,16 @@ impl BenchReport {
     pub fn table(&self) -> String {
         let mut out = String::new();
         let _ = writeln!(out, "device: {} ({})", self.device, self.driver);
-        let ids = ["shadow", "scene", "caustics", "godrays", "filter", "compose"];
+        // The water's refraction and reflection columns only when some configuration has them.
+        let surface = self.results.iter().any(|r| r.passes.iter().any(|p| p.pass == "refraction"));
+        let ids: &[&str] = if surface {
+            &["shadow", "refraction", "reflection", "scene", "caustics", "godrays", "filter", "compose"]
+        } else {
+            &["shadow", "scene", "caustics", "godrays", "filter", "compose"]
+        };
         let _ = write!(out, "{:<32} {:>10}", "config", "photons");
         for id in ids {
-            let _ = write!(out, " {:>9}", id);
+            let _ = write!(out, " {:>10}", id);
         }
         let _ = writeln!(out, " {:>26} {:>9} {:>10}", "total ms median [p5–p95]", "GPU fps", "paper fps");
         for r in &self.results {
@@ -323,12 +329,12 @@ impl BenchReport {
             };
             let _ = write!(out, "{:<32} {:>10}", name, r.caustic_photons + r.godray_photons);
             for id in ids {
-                match r.passes.iter().find(|p| p.pass == id) {
+                match r.passes.iter().find(|p| p.pass == *id) {
                     Some(p) => {
-                        let _ = write!(out, " {:>9.2}", p.median_ms);
+                        let _ = write!(out, " {:>10.2}", p.median_ms);
                     }
                     None => {
-                        let _ = write!(out, " {:>9}", "-");
+                        let _ = write!(out, " {:>10}", "-");
                     }
                 }
             }

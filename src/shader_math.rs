@@ -287,6 +287,12 @@ pub fn refract(i: Vec3, n: Vec3, eta: f32) -> Vec3 {
     }
 }
 
+/// GLSL `water_fog_radiance` (underwater.glsl): the radiance the water sends towards the
+/// viewer from in-scattered ambient light, per channel: E_ambient · σs / γ / 4π (γ ≥ 1e-3).
+pub fn water_fog_radiance(ambient_irradiance: f32, gamma: Vec3, scattering: f32) -> Vec3 {
+    ambient_irradiance * scattering / gamma.max(Vec3::splat(1e-3)) / (4.0 * std::f32::consts::PI)
+}
+
 /// GLSL `fresnel_transmittance`.
 pub fn fresnel_transmittance(cos_i: f32, n: f32) -> f32 {
     let cos_i = cos_i.clamp(0.0, 1.0);

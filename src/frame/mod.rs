@@ -17,7 +17,7 @@ use crate::passes::filter::FilterPass;
 use crate::passes::godrays::GodraysPass;
 use crate::passes::reflection::ReflectionPass;
 use crate::passes::refraction::RefractionPass;
-use crate::passes::scene::{ScenePass, SurfaceInputs};
+use crate::passes::scene::{Background, ScenePass, SurfaceInputs};
 use crate::passes::{photon_set_index, PHOTON_SETS};
 use crate::passes::shadow::ShadowPass;
 use crate::passes::PassId;
@@ -290,6 +290,8 @@ pub struct Frame {
     meshes: GpuMeshes,
     // Read through the descriptor sets only; owned here so they live as long as the frame.
     _noise: Image,
+    /// The noise's CPU twin: the surface's height at the camera each frame.
+    noise_twin: NoiseTexture,
     _nearest: Sampler,
     _linear: Sampler,
 }
@@ -468,6 +470,7 @@ impl Frame {
             uniforms,
             meshes,
             _noise: noise,
+            noise_twin: noise_data,
             _nearest: nearest,
             _linear: linear,
         })
@@ -493,9 +496,19 @@ impl Frame {
         let through_surface = self.refraction.is_some() && camera_sees_surface_from_above(&self.scene);
         let mut u = FrameUniforms::new(&self.scene, self.bounds, &self.extents, time);
         u.water4[3] = if through_surface { 1.0 } else { 0.0 };
+        let c = self.scene.camera.position;
+        let hg = crate::shader_math::water_height_grad(&self.scene.water, &self.noise_twin, glam::Vec2::new(c.x, c.z), time);
+        u.camera_water = [hg.x, hg.y, hg.z, 0.0];
         if let Some(bytes) = self.uniforms[slot.index].mapped_mut() {
             bytes.copy_from_slice(bytemuck::bytes_of(&u));
         }
+        // Every ray starts under the water when the camera cannot see the surface from above.
+        let background = if !camera_sees_surface_from_above(&self.scene) {
+            let fog = crate::shader_math::water_fog_radiance(u.water3[2], glam::Vec3::from_slice(&u.gamma[..3]), u.gamma[3]);
+            Background::Uniform(fog.to_array())
+        } else {
+            Background::Draw
+        };
         let (i, cmd) = (slot.index, slot.cmd);
         if let Some(shadow) = &self.shadow {
             slot.timer.pass(cmd, PassId::Shadow, |cmd| shadow.record(cmd, i, &self.meshes));
@@ -504,7 +517,7 @@ impl Frame {
         if let Some(refraction) = refraction {
             slot.timer.pass(cmd, PassId::Refraction, |cmd| refraction.record(cmd, i, &self.meshes));
         } else {
-            slot.timer.pass(cmd, PassId::Scene, |cmd| self.scene_pass.record(cmd, i, &self.meshes));
+            slot.timer.pass(cmd, PassId::Scene, |cmd| self.scene_pass.record(cmd, i, &self.meshes, background));
         }
         let photon_set = photon_set_index(i, through_surface);
         if let Some(caustics) = &self.caustics {
@@ -522,7 +535,7 @@ impl Frame {
         }
         if let (Some(_), Some(reflection)) = (refraction, &self.reflection) {
             slot.timer.pass(cmd, PassId::Reflection, |cmd| reflection.record(cmd, i, &self.meshes));
-            slot.timer.pass(cmd, PassId::Scene, |cmd| self.scene_pass.record(cmd, i, &self.meshes));
+            slot.timer.pass(cmd, PassId::Scene, |cmd| self.scene_pass.record(cmd, i, &self.meshes, background));
         }
         slot.timer.pass(cmd, PassId::Compose, |cmd| self.compose.record(cmd, i));
     }

@@ -36,8 +36,12 @@ pub struct FrameUniforms {
     /// The water's phase at this time (`shader_math::water_phase`); w: 1 when the frame
     /// records the refraction and reflection passes (set by `Frame::record`).
     pub water4: [f32; 4],
+    /// The surface's height above the level at the camera's xz and its gradient (x, yz):
+    /// the tangent plane the shaders decide each pixel's side of the water against. Set by
+    /// `Frame::record` from the CPU twin; w unused.
+    pub camera_water: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 4 * 64 + 15 * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 4 * 64 + 16 * 16);
 
 /// Sizes of the frame's targets and the device limits the shaders clamp to.
 #[derive(Clone, Copy, Debug)]
@@ -277,6 +281,8 @@ impl FrameUniforms {
                 let p = crate::shader_math::water_phase(w, time);
                 [p.x, p.y, p.z, 0.0]
             },
+            // Flat until the frame fills it in (it holds the noise's CPU twin).
+            camera_water: [0.0; 4],
         }
     }
 }

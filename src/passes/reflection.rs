@@ -18,8 +18,8 @@ use crate::vk::render_pass::{Attachment, Load, RenderPass};
 use ash::vk;
 use std::sync::Arc;
 
-/// What the pass's shaders read (the noise: scene.frag's pixel-side test).
-pub const BINDINGS: &[(u32, Binding)] = &[(b::UNIFORMS, Binding::Uniform), (b::NOISE, Binding::Texture)];
+/// What the pass's shaders read.
+pub const BINDINGS: &[(u32, Binding)] = &[(b::UNIFORMS, Binding::Uniform)];
 
 /// The reflection's size for an output size.
 pub fn reflection_extent(output: vk::Extent2D) -> vk::Extent2D {

@@ -78,8 +78,8 @@ impl SurfaceInputs {
         }
     }
 
-    /// What the pass's shaders read: the noise for the surface's shape and each pixel's side,
-    /// and what the surface refracts and reflects when seen from above.
+    /// What the pass's shaders read: the noise for the surface's shape, and what the surface
+    /// refracts and reflects when seen from above.
     pub fn bindings(self) -> Vec<(u32, Binding)> {
         let mut v = vec![(b::UNIFORMS, Binding::Uniform), (b::NOISE, Binding::Texture)];
         if self.through_surface {
@@ -95,6 +95,17 @@ impl SurfaceInputs {
         }
         v
     }
+}
+
+/// What the scene pass puts behind the meshes and the surface.
+#[derive(Clone, Copy, Debug)]
+pub enum Background {
+    /// The background shader: per pixel, the sky or the water's glow by where its ray starts.
+    Draw,
+    /// Every ray starts under the water (the camera's near plane lies under the lowest
+    /// trough, `frame::camera_sees_surface_from_above` is false): the target is cleared to the water's glow, which the shader would draw on
+    /// every pixel (`shader_math::water_fog_radiance`), and the draw is skipped.
+    Uniform([f32; 3]),
 }
 
 pub struct ScenePass {
@@ -169,15 +180,23 @@ impl ScenePass {
         })
     }
 
-    pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize, meshes: &GpuMeshes) {
+    pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize, meshes: &GpuMeshes, background: Background) {
         let dev = &self.device;
         let set = self.sets.sets[frame_index];
-        self.render_pass.begin(cmd);
-        // No depth test or write: what follows draws over it.
-        self.background_pipeline.bind(cmd, Some(set));
-        unsafe { dev.raw.cmd_draw(cmd, 3, 1, 0, 0) };
-        // Same set layout: set 0 stays bound across the pipeline changes.
-        self.mesh_pipeline.bind(cmd, None);
+        match background {
+            Background::Draw => {
+                self.render_pass.begin(cmd);
+                // No depth test or write: what follows draws over it.
+                self.background_pipeline.bind(cmd, Some(set));
+                unsafe { dev.raw.cmd_draw(cmd, 3, 1, 0, 0) };
+                // Same set layout: set 0 stays bound across the pipeline changes.
+                self.mesh_pipeline.bind(cmd, None);
+            }
+            Background::Uniform(radiance) => {
+                self.render_pass.begin_with_first_clear(cmd, [radiance[0], radiance[1], radiance[2], 0.0]);
+                self.mesh_pipeline.bind(cmd, Some(set));
+            }
+        }
         meshes.draw(dev, cmd);
         self.water_pipeline.bind(cmd, None);
         unsafe { dev.raw.cmd_draw(cmd, 6 * WATER_GRID_CELLS * WATER_GRID_CELLS, 1, 0, 0) };

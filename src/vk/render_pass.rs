@@ -136,6 +136,22 @@ impl RenderPass {
         set_viewport(&self.device, cmd, self.extent);
     }
 
+    /// `begin`, clearing the first colour attachment to `color` instead of its clear value
+    /// (a clear that changes per frame; no allocation).
+    pub fn begin_with_first_clear(&self, cmd: vk::CommandBuffer, color: [f32; 4]) {
+        let mut values = [vk::ClearValue::default(); 4];
+        let n = self.clear_values.len().min(values.len());
+        values[..n].copy_from_slice(&self.clear_values[..n]);
+        values[0] = vk::ClearValue { color: vk::ClearColorValue { float32: color } };
+        let info = vk::RenderPassBeginInfo::default()
+            .render_pass(self.raw)
+            .framebuffer(self.framebuffer)
+            .render_area(vk::Rect2D { offset: vk::Offset2D::default(), extent: self.extent })
+            .clear_values(&values[..n]);
+        unsafe { self.device.raw.cmd_begin_render_pass(cmd, &info, vk::SubpassContents::INLINE) };
+        set_viewport(&self.device, cmd, self.extent);
+    }
+
     pub fn end(&self, cmd: vk::CommandBuffer) {
         unsafe { self.device.raw.cmd_end_render_pass(cmd) };
     }
