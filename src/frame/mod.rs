@@ -413,7 +413,9 @@ impl Frame {
                 other => panic!("no resource for binding {other}"),
             }
         };
-        let mut pass_sets: Vec<(&DescriptorSets, Vec<(u32, Binding)>, usize)> = vec![
+        // Each pass's sets, the bindings its shaders read, and how many sets it has.
+        type PassSets<'a> = Vec<(&'a DescriptorSets, Vec<(u32, Binding)>, usize)>;
+        let mut pass_sets: PassSets = vec![
             (&scene_pass.sets, surface.bindings(), FRAMES_IN_FLIGHT),
             (&compose.sets, ComposePass::bindings(caustics.is_some(), godrays.is_some()), FRAMES_IN_FLIGHT),
         ];

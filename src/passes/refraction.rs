@@ -6,7 +6,7 @@
 //! water along that ray. Recorded only in frames where the camera can see the surface from
 //! above.
 
-use super::scene::{mesh_pipeline, View, COLOR_FORMAT};
+use super::scene::{mesh_pipeline, CameraTargets, View};
 use crate::error::Result;
 use crate::frame::bindings as b;
 use crate::frame::mesh::GpuMeshes;
@@ -15,7 +15,7 @@ use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
 use crate::vk::image::Image;
 use crate::vk::pipeline::Pipeline;
-use crate::vk::render_pass::{Attachment, Load, RenderPass};
+use crate::vk::render_pass::RenderPass;
 use ash::vk;
 use std::sync::Arc;
 
@@ -37,26 +37,8 @@ impl RefractionPass {
     /// the scene pass's).
     pub fn new(device: &Arc<Device>, extent: vk::Extent2D) -> Result<Self> {
         let sets = DescriptorSets::new(device, "refraction", BINDINGS, FRAMES_IN_FLIGHT as u32)?;
-        let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
-        let color = Image::new(device, "refraction colour", extent, COLOR_FORMAT, usage)?;
-        let albedo = Image::new(device, "refraction albedo", extent, COLOR_FORMAT, usage)?;
-        let depth = Image::new(
-            device,
-            "refraction depth",
-            extent,
-            vk::Format::D32_SFLOAT,
-            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
-        )?;
-        let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
-        let render_pass = RenderPass::new(
-            device,
-            "refraction",
-            &[
-                Attachment { image: &color, load: Load::Clear([0.0; 4]), final_layout: read },
-                Attachment { image: &albedo, load: Load::Clear([0.0; 4]), final_layout: read },
-            ],
-            Some(&Attachment { image: &depth, load: Load::Clear([1.0; 4]), final_layout: read }),
-        )?;
+        let CameraTargets { color, albedo, depth, render_pass } =
+            CameraTargets::new(device, "refraction", "albedo", extent, vk::ImageUsageFlags::empty())?;
         let pipeline = mesh_pipeline(device, "refraction meshes", View::Refraction, 2, sets.layout, render_pass.raw)?;
         Ok(Self { pipeline, render_pass, color, albedo, depth, sets, device: device.clone() })
     }

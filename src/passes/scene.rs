@@ -57,6 +57,49 @@ pub fn mesh_pipeline(
     )
 }
 
+/// A camera view's targets and their render pass: radiance, albedo/π (× transmittance in
+/// the scene pass), depth, all at the camera's extent and left sampled (the scene and
+/// refraction passes).
+pub struct CameraTargets {
+    pub color: Image,
+    pub albedo: Image,
+    pub depth: Image,
+    pub render_pass: RenderPass,
+}
+
+impl CameraTargets {
+    /// `pass`: the pass's name (prefixes the images'); `albedo_name`: the second target's.
+    pub fn new(
+        device: &Arc<Device>,
+        pass: &str,
+        albedo_name: &str,
+        extent: vk::Extent2D,
+        extra_usage: vk::ImageUsageFlags,
+    ) -> Result<Self> {
+        let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | extra_usage;
+        let color = Image::new(device, &format!("{pass} colour"), extent, COLOR_FORMAT, usage)?;
+        let albedo = Image::new(device, &format!("{pass} {albedo_name}"), extent, COLOR_FORMAT, usage)?;
+        let depth = Image::new(
+            device,
+            &format!("{pass} depth"),
+            extent,
+            vk::Format::D32_SFLOAT,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
+        )?;
+        let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+        let render_pass = RenderPass::new(
+            device,
+            pass,
+            &[
+                Attachment { image: &color, load: Load::Clear([0.0; 4]), final_layout: read },
+                Attachment { image: &albedo, load: Load::Clear([0.0; 4]), final_layout: read },
+            ],
+            Some(&Attachment { image: &depth, load: Load::Clear([1.0; 4]), final_layout: read }),
+        )?;
+        Ok(Self { color, albedo, depth, render_pass })
+    }
+}
+
 /// What the frame gives the water surface to shade it from above.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct SurfaceInputs {
@@ -124,28 +167,10 @@ pub struct ScenePass {
 impl ScenePass {
     pub fn new(device: &Arc<Device>, extent: vk::Extent2D, surface: SurfaceInputs) -> Result<Self> {
         let sets = DescriptorSets::new(device, "scene", &surface.bindings(), FRAMES_IN_FLIGHT as u32)?;
-        let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC;
-        let color = Image::new(device, "scene colour", extent, COLOR_FORMAT, usage)?;
-        let albedo_transmittance = Image::new(device, "scene albedo×transmittance", extent, COLOR_FORMAT, usage)?;
-        let depth = Image::new(
-            device,
-            "scene depth",
-            extent,
-            vk::Format::D32_SFLOAT,
-            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
-        )?;
-        let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
-        let render_pass = RenderPass::new(
-            device,
-            "scene",
-            &[
-                // Every pixel is drawn (the background covers the target), so the clear
-                // values only matter to a broken draw.
-                Attachment { image: &color, load: Load::Clear([0.0, 0.0, 0.0, 0.0]), final_layout: read },
-                Attachment { image: &albedo_transmittance, load: Load::Clear([0.0; 4]), final_layout: read },
-            ],
-            Some(&Attachment { image: &depth, load: Load::Clear([1.0; 4]), final_layout: read }),
-        )?;
+        // Every pixel is drawn (the background or its clear covers the target), so the clear
+        // values only matter to a broken draw. Read back by the headless renderer.
+        let CameraTargets { color, albedo: albedo_transmittance, depth, render_pass } =
+            CameraTargets::new(device, "scene", "albedo×transmittance", extent, vk::ImageUsageFlags::TRANSFER_SRC)?;
         let layouts = [sets.layout];
         let background_pipeline = Pipeline::graphics(
             device,
