@@ -19,6 +19,10 @@ fn bad_command_lines_are_named_errors() {
         (vec!["bench".into(), "--config".into(), "paper-9000".into()], "unknown"),
         (vec!["bench".into(), "--config".into(), "tiny".into(), "--frames".into(), "0".into()], "at least 1"),
         (vec!["render".into(), "--frobnicate".into()], "--frobnicate"),
+        (vec!["render".into(), "--camera".into(), "1,2".into()], "--camera takes three finite numbers"),
+        (vec!["render".into(), "--look-at".into(), "0,nan,1".into()], "--look-at takes three finite numbers"),
+        (vec!["render".into(), "--camera".into(), "1,x,3".into()], "--camera"),
+        (vec!["render".into(), "--camera=0,1,0".into(), "--look-at=0,1,0".into()], "the same point"),
     ];
     for (args, expected) in cases {
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
