@@ -25,16 +25,6 @@ vec3 pixel_ray(vec2 uv) {
     return normalize(p.xyz / p.w - frame.camera_pos.xyz);
 }
 
-// Length of the segment a→b that lies below the water's mean plane.
-float underwater_length(vec3 a, vec3 b, float level) {
-    float len = length(b - a);
-    bool a_in = a.y < level, b_in = b.y < level;
-    if (a_in && b_in) return len;
-    if (!a_in && !b_in) return 0.0;
-    float s = (level - a.y) / (b.y - a.y); // where the segment crosses the plane
-    return a_in ? s * len : (1.0 - s) * len;
-}
-
 // Diffuse (sky) irradiance at a point, W/m²: the ambient share of the light, attenuated by
 // the water above the point; a receiver facing down gets less of it.
 vec3 ambient_irradiance(vec3 p, vec3 n) {
