@@ -1,10 +1,19 @@
-// The per-frame uniforms every pass of the method reads (set 0, binding 0).
-// Rust side: frame::uniforms::FrameUniforms (std140; vec4s only, so no hidden padding).
+// The per-frame parameters every pass of the method reads (set 0, binding 0).
+// Rust side: frame::uniforms::FrameUniforms (vec4s and mat4s only, so std140 and std430 lay
+// it out alike, with no hidden padding).
+//
+// A read-only storage buffer, not a uniform buffer. Mesa's lavapipe (22.3) "inlines" uniform
+// values that decide a branch or a loop (the light kind, the water model, the iteration
+// count): it compiles a new variant of the shader at every draw that binds the uniform
+// buffer and never frees it. That leaked 24 MB per frame in the photon geometry shaders
+// (docs/reliability.md has the measurements and a minimal reproduction). Storage-buffer
+// loads are never inlined; on a GPU a read-only buffer read at a dynamically uniform address
+// is an ordinary cached load.
 #ifndef UNDERLIGHT_FRAME_GLSL
 #define UNDERLIGHT_FRAME_GLSL
 #include "common.glsl"
 
-layout(set = 0, binding = 0, std140) uniform FrameUniforms {
+layout(set = 0, binding = 0, std430) readonly buffer FrameUniforms {
     mat4 camera_view_proj;
     mat4 light_view_proj;
     mat4 light_inv_view_proj;

@@ -15,6 +15,7 @@ pub mod error;
 pub mod frame;
 pub mod headless;
 pub mod image_io;
+pub mod memory;
 pub mod metrics;
 pub mod passes;
 pub mod reference;

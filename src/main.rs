@@ -218,6 +218,13 @@ struct BenchArgs {
     json: Option<PathBuf>,
     #[arg(long)]
     csv: Option<PathBuf>,
+    /// Instead of timing: render the scene N frames and print resident memory and the GPU
+    /// allocator's device memory at frame 100 and at frame N (and between).
+    #[arg(long, value_name = "N")]
+    soak: Option<u64>,
+    /// The soak's output size, WxH.
+    #[arg(long, value_name = "WxH", default_value = "320x200")]
+    soak_size: String,
 }
 
 #[derive(clap::Args)]
@@ -575,6 +582,9 @@ fn bench(cli: &Cli, args: &BenchArgs) -> Result<i32> {
     if cli.validation {
         bail!("bench measures with validation off: drop --validation (the layers would dominate the times)");
     }
+    if let Some(frames) = args.soak {
+        return soak(cli, args, frames);
+    }
     let all = bench::configs();
     let names: Vec<&str> = if args.config == "paper" {
         all.iter().filter(|c| c.name.starts_with("paper")).map(|c| c.name).collect()
@@ -623,6 +633,37 @@ fn bench(cli: &Cli, args: &BenchArgs) -> Result<i32> {
     }
     if let Some(p) = &args.csv {
         std::fs::write(p, report.csv()).with_context(|| format!("writing {}", p.display()))?;
+        println!("wrote {}", p.display());
+    }
+    Ok(finish(ctx))
+}
+
+/// `bench --soak N`: memory after frame 100 and frame N (and at quarters between).
+fn soak(cli: &Cli, args: &BenchArgs, frames: u64) -> Result<i32> {
+    if frames == 0 {
+        bail!("--soak {frames}: must be at least 1 frame");
+    }
+    let (width, height) = args
+        .soak_size
+        .split_once('x')
+        .and_then(|(w, h)| Some((w.trim().parse::<u32>().ok()?, h.trim().parse::<u32>().ok()?)))
+        .filter(|&(w, h)| w >= 1 && h >= 1)
+        .with_context(|| format!("--soak-size {:?}: expected WxH with both at least 1, e.g. 320x200", args.soak_size))?;
+    prepare_outputs(args.json.iter())?;
+    let scene = underlight::scene::load(&args.scene)?;
+    let mut desc = context_desc(cli);
+    desc.validation = false;
+    let ctx = Context::new(&desc)?;
+    println!("device: {}", ctx.device.info.describe());
+    let first = frames.min(100);
+    let mut at = vec![first];
+    at.extend((1..=4).map(|q| frames * q / 4).filter(|&f| f > first));
+    at.dedup();
+    eprintln!("soak: {} frames of {:?} at {width}×{height}…", frames, scene.name);
+    let report = underlight::memory::soak(&ctx.device, &scene, vk::Extent2D { width, height }, frames, &at)?;
+    println!("{report}");
+    if let Some(p) = &args.json {
+        std::fs::write(p, serde_json::to_string_pretty(&report)?).with_context(|| format!("writing {}", p.display()))?;
         println!("wrote {}", p.display());
     }
     Ok(finish(ctx))

@@ -315,7 +315,8 @@ impl Frame {
                 device,
                 &format!("frame {i} uniforms"),
                 std::mem::size_of::<FrameUniforms>() as u64,
-                vk::BufferUsageFlags::UNIFORM_BUFFER,
+                // Read as a read-only storage buffer, not a uniform buffer: glsl/frame.glsl.
+                vk::BufferUsageFlags::STORAGE_BUFFER,
                 MemoryLocation::CpuToGpu,
             )?);
         }
@@ -385,7 +386,7 @@ impl Frame {
             let frame = set % FRAMES_IN_FLIGHT;
             let through_surface = set >= FRAMES_IN_FLIGHT;
             match binding {
-                bindings::UNIFORMS => Resource::Uniform { buffer: uniforms[frame].raw, range: uniforms[frame].size },
+                bindings::UNIFORMS => Resource::Storage { buffer: uniforms[frame].raw, range: uniforms[frame].size },
                 bindings::NOISE => tex(&noise, &nearest),
                 bindings::LIGHT_POSITION => tex(&shadow.as_ref().expect("plan: photon passes need the shadow pass").position, &nearest),
                 bindings::LIGHT_NORMAL => tex(&shadow.as_ref().expect("plan: photon passes need the shadow pass").normal, &nearest),

@@ -20,7 +20,7 @@ use std::sync::Arc;
 /// What the caustics shaders read: the water's noise, the light's receiver maps, and the
 /// scene's depth for the visibility test.
 pub const BINDINGS: &[(u32, Binding)] = &[
-    (b::UNIFORMS, Binding::Uniform),
+    (b::UNIFORMS, Binding::Storage),
     (b::NOISE, Binding::Texture),
     (b::LIGHT_POSITION, Binding::Texture),
     (b::LIGHT_NORMAL, Binding::Texture),

@@ -26,7 +26,7 @@ pub struct ComposePass {
 impl ComposePass {
     /// What the chosen compose variant reads: only the targets the frame has.
     pub fn bindings(caustics: bool, godrays: bool) -> Vec<(u32, Binding)> {
-        let mut v = vec![(b::UNIFORMS, Binding::Uniform), (b::SCENE_COLOR, Binding::Texture)];
+        let mut v = vec![(b::UNIFORMS, Binding::Storage), (b::SCENE_COLOR, Binding::Texture)];
         if caustics {
             v.push((b::ALBEDO_TRANSMITTANCE, Binding::Texture));
             v.push((b::CAUSTICS, Binding::Texture));

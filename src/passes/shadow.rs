@@ -17,7 +17,7 @@ use ash::vk;
 use std::sync::Arc;
 
 /// What the shadow pass's shaders read (glsl/frame_textures.glsl numbering).
-pub const BINDINGS: &[(u32, Binding)] = &[(b::UNIFORMS, Binding::Uniform)];
+pub const BINDINGS: &[(u32, Binding)] = &[(b::UNIFORMS, Binding::Storage)];
 
 pub struct ShadowPass {
     pipeline: Pipeline,

@@ -12,6 +12,7 @@ pub mod script;
 use crate::frame::{Frame, FrameOptions};
 use crate::headless::median_timings;
 use crate::image_io;
+use crate::memory::MemorySample;
 use crate::passes::PassId;
 use crate::scene::{Scene, WaterModel};
 use crate::vk::buffer::Buffer;
@@ -131,6 +132,22 @@ struct Live {
     pass_frames: [u64; PassId::ALL.len()],
     last_report: Instant,
     frames_since_report: u32,
+    /// Memory after frame `MEMORY_SAMPLE_FRAME`, printed beside the memory at exit: a window
+    /// left open must not grow.
+    memory_early: Option<MemorySample>,
+}
+
+/// The frame whose memory the viewer compares with its memory at exit (after warm-up).
+const MEMORY_SAMPLE_FRAME: u64 = 100;
+
+fn print_memory(sample: &MemorySample) {
+    println!(
+        "memory at frame {}: resident {} bytes, device {} bytes in {} allocations",
+        sample.frame,
+        sample.resident_bytes.map_or("unknown".to_string(), |b| b.to_string()),
+        sample.device.allocated_bytes,
+        sample.device.allocations
+    );
 }
 
 impl ApplicationHandler for App {
@@ -258,6 +275,7 @@ impl Live {
             pass_frames: [0; PassId::ALL.len()],
             last_report: Instant::now(),
             frames_since_report: 0,
+            memory_early: None,
         };
         let size = live.window.inner_size();
         live.resize(size)?;
@@ -576,6 +594,9 @@ impl Live {
         }
         let ok = swapchain.present(image_index)?;
         self.frames_rendered += 1;
+        if self.frames_rendered == MEMORY_SAMPLE_FRAME {
+            self.memory_early = Some(MemorySample::now(&self.ctx.device, self.frames_rendered));
+        }
         self.frames_left_in_step = self.frames_left_in_step.saturating_sub(1);
         if let Some(path) = screenshot {
             // A screenshot is an explicit request: waiting for its frame is what it asks for.
@@ -629,6 +650,10 @@ impl Live {
     }
 
     fn shutdown(self) -> ShutdownReport {
+        if let Some(early) = &self.memory_early {
+            print_memory(early);
+            print_memory(&MemorySample::now(&self.ctx.device, self.frames_rendered));
+        }
         let Live { frame, ring, swapchain, screenshot_buffer, surface, ctx, window, .. } = self;
         let _ = ctx.device.wait_idle();
         drop((frame, ring, swapchain, screenshot_buffer, surface));

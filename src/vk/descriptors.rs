@@ -10,16 +10,16 @@ use std::sync::Arc;
 /// What one binding holds.
 #[derive(Clone, Copy, Debug)]
 pub enum Binding {
-    Uniform,
     /// A sampled image with its sampler.
     Texture,
+    /// A storage buffer. The frame's parameter block is one too, read-only (glsl/frame.glsl
+    /// says why it is not a uniform buffer).
     Storage,
 }
 
 impl Binding {
     fn vk_type(self) -> vk::DescriptorType {
         match self {
-            Binding::Uniform => vk::DescriptorType::UNIFORM_BUFFER,
             Binding::Texture => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
             Binding::Storage => vk::DescriptorType::STORAGE_BUFFER,
         }
@@ -29,7 +29,6 @@ impl Binding {
 /// A resource written into a binding.
 #[derive(Clone, Copy)]
 pub enum Resource {
-    Uniform { buffer: vk::Buffer, range: vk::DeviceSize },
     Texture { view: vk::ImageView, sampler: vk::Sampler, layout: vk::ImageLayout },
     Storage { buffer: vk::Buffer, range: vk::DeviceSize },
 }
@@ -89,10 +88,6 @@ impl DescriptorSets {
         let image_info;
         let w = vk::WriteDescriptorSet::default().dst_set(self.sets[set]).dst_binding(binding);
         let w = match resource {
-            Resource::Uniform { buffer, range } => {
-                buffer_info = [vk::DescriptorBufferInfo { buffer: *buffer, offset: 0, range: *range }];
-                w.descriptor_type(vk::DescriptorType::UNIFORM_BUFFER).buffer_info(&buffer_info)
-            }
             Resource::Texture { view, sampler, layout } => {
                 image_info = [vk::DescriptorImageInfo { sampler: *sampler, image_view: *view, image_layout: *layout }];
                 w.descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER).image_info(&image_info)
