@@ -29,7 +29,7 @@ use crate::vk::descriptors::{Binding, DescriptorSets, Resource};
 use crate::vk::device::Device;
 use crate::vk::image::Image;
 use crate::vk::sampler::Sampler;
-use crate::vk::upload::{image_with_data, make_sampleable};
+use crate::vk::upload::{clear_to_sampled, image_with_data};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 use mesh::GpuMeshes;
@@ -371,7 +371,7 @@ impl Frame {
             images.extend(caustics.as_ref().map(|c| &c.target.image));
             images.extend(godrays.as_ref().map(|g| &g.target.image));
             images.extend(caustic_filter.iter().chain(&godray_filter).map(|f| &f.output.image));
-            make_sampleable(device, "surface inputs to sampled layout", &images)?;
+            clear_to_sampled(device, "surface inputs cleared to the sampled layout", &images)?;
         }
 
         // Each pass declared the bindings its shaders read; fill them from what this frame

@@ -39,7 +39,8 @@ impl ReflectionPass {
     pub fn new(device: &Arc<Device>, output: vk::Extent2D) -> Result<Self> {
         let extent = reflection_extent(output);
         let sets = DescriptorSets::new(device, "reflection", BINDINGS, FRAMES_IN_FLIGHT as u32)?;
-        let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
+        // TRANSFER_DST: the frame clears it before its first pass (upload::clear_to_sampled).
+        let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST;
         let color = Image::new(device, "reflection colour", extent, COLOR_FORMAT, usage)?;
         let depth = Image::new(device, "reflection depth", extent, vk::Format::D32_SFLOAT, vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT)?;
         let render_pass = RenderPass::new(

@@ -76,7 +76,11 @@ impl CameraTargets {
         extent: vk::Extent2D,
         extra_usage: vk::ImageUsageFlags,
     ) -> Result<Self> {
-        let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | extra_usage;
+        // TRANSFER_DST: the frame may clear them before their first pass (upload::clear_to_sampled).
+        let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
+            | vk::ImageUsageFlags::SAMPLED
+            | vk::ImageUsageFlags::TRANSFER_DST
+            | extra_usage;
         let color = Image::new(device, &format!("{pass} colour"), extent, COLOR_FORMAT, usage)?;
         let albedo = Image::new(device, &format!("{pass} {albedo_name}"), extent, COLOR_FORMAT, usage)?;
         let depth = Image::new(
@@ -84,7 +88,7 @@ impl CameraTargets {
             &format!("{pass} depth"),
             extent,
             vk::Format::D32_SFLOAT,
-            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
         )?;
         let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
         let render_pass = RenderPass::new(

@@ -736,11 +736,17 @@ fn record_present(
             last = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
         }
         // Presentation is ordered by the semaphore the submission signals.
+        // The last access matches the layout it leaves (best practices checks the pairing).
+        let last_access = if last == vk::ImageLayout::TRANSFER_DST_OPTIMAL {
+            vk::AccessFlags2::TRANSFER_WRITE
+        } else {
+            vk::AccessFlags2::TRANSFER_READ
+        };
         let to_present = [barrier(
             last,
             vk::ImageLayout::PRESENT_SRC_KHR,
             vk::PipelineStageFlags2::ALL_TRANSFER,
-            vk::AccessFlags2::TRANSFER_WRITE | vk::AccessFlags2::TRANSFER_READ,
+            last_access,
             vk::PipelineStageFlags2::NONE,
             vk::AccessFlags2::NONE,
         )];

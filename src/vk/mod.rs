@@ -1,5 +1,6 @@
 //! The hand-written Vulkan backend, one file per concept.
 
+pub mod barrier;
 pub mod buffer;
 pub mod commands;
 pub mod descriptors;

@@ -3,6 +3,7 @@
 //! The staging buffer is made once per target; recording the copy adds no allocation and
 //! no wait. Reading it is the caller's job once the frame's fence has signalled.
 
+use super::barrier::SHADER_STAGES;
 use super::buffer::Buffer;
 use super::device::Device;
 use super::image::{texel_size, Image};
@@ -42,12 +43,23 @@ impl Readback {
     /// binds the photon buffers in every frame).
     pub fn record_from(&self, cmd: vk::CommandBuffer, image: &Image, layout: vk::ImageLayout) {
         let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+        // Out of `layout` after the passes that sampled it (their writes were made available
+        // by their render pass), into the copy; and back for the shaders of later frames.
+        let stage_access = |l: vk::ImageLayout| {
+            if l == src {
+                (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::TRANSFER_READ)
+            } else {
+                (SHADER_STAGES, vk::AccessFlags2::SHADER_READ)
+            }
+        };
         let barrier = |from: vk::ImageLayout, to: vk::ImageLayout| {
+            let (src_stage, src_access) = stage_access(from);
+            let (dst_stage, dst_access) = stage_access(to);
             [vk::ImageMemoryBarrier2::default()
-                .src_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
-                .src_access_mask(vk::AccessFlags2::MEMORY_WRITE | vk::AccessFlags2::MEMORY_READ)
-                .dst_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
-                .dst_access_mask(vk::AccessFlags2::MEMORY_READ | vk::AccessFlags2::MEMORY_WRITE)
+                .src_stage_mask(src_stage)
+                .src_access_mask(src_access)
+                .dst_stage_mask(dst_stage)
+                .dst_access_mask(dst_access)
                 .old_layout(from)
                 .new_layout(to)
                 .image(image.raw)

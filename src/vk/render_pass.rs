@@ -79,27 +79,26 @@ impl RenderPass {
         if depth.is_some() {
             subpass = subpass.depth_stencil_attachment(&depth_ref);
         }
-        // Full memory dependencies with whatever comes before and after the pass. The frame
-        // has a handful of passes, so precise per-resource barriers would buy little and make
-        // each pass depend on its neighbours' internals; these are correct for any order.
-        let all_rw = vk::AccessFlags::MEMORY_READ | vk::AccessFlags::MEMORY_WRITE;
+        // Dependencies with whatever comes before and after the pass, by the frame's shared
+        // stage and access sets (vk::barrier): correct for any order of passes, and precise.
+        use super::barrier::render_pass as rp;
         let dependencies = [
             vk::SubpassDependency {
                 src_subpass: vk::SUBPASS_EXTERNAL,
                 dst_subpass: 0,
-                src_stage_mask: vk::PipelineStageFlags::ALL_COMMANDS,
-                dst_stage_mask: vk::PipelineStageFlags::ALL_GRAPHICS,
-                src_access_mask: vk::AccessFlags::MEMORY_WRITE,
-                dst_access_mask: all_rw,
+                src_stage_mask: rp::OUTSIDE,
+                dst_stage_mask: rp::INSIDE,
+                src_access_mask: rp::WRITES,
+                dst_access_mask: rp::USES,
                 dependency_flags: vk::DependencyFlags::empty(),
             },
             vk::SubpassDependency {
                 src_subpass: 0,
                 dst_subpass: vk::SUBPASS_EXTERNAL,
-                src_stage_mask: vk::PipelineStageFlags::ALL_GRAPHICS,
-                dst_stage_mask: vk::PipelineStageFlags::ALL_COMMANDS,
-                src_access_mask: vk::AccessFlags::MEMORY_WRITE,
-                dst_access_mask: all_rw,
+                src_stage_mask: rp::ATTACHMENT_STAGES | rp::GRAPHICS_SHADERS,
+                dst_stage_mask: rp::OUTSIDE,
+                src_access_mask: rp::ATTACHMENT_WRITES | vk::AccessFlags::SHADER_WRITE,
+                dst_access_mask: rp::AFTER_USES,
                 dependency_flags: vk::DependencyFlags::empty(),
             },
         ];
@@ -182,7 +181,12 @@ impl ColorTarget {
         format: vk::Format,
         final_layout: vk::ImageLayout,
     ) -> Result<Self> {
-        let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC;
+        // TRANSFER_SRC for read-backs; TRANSFER_DST for a clear before its first pass
+        // (upload::clear_to_sampled).
+        let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
+            | vk::ImageUsageFlags::SAMPLED
+            | vk::ImageUsageFlags::TRANSFER_SRC
+            | vk::ImageUsageFlags::TRANSFER_DST;
         let image = Image::new(device, name, extent, format, usage)?;
         let render_pass = RenderPass::new(device, name, &[Attachment { image: &image, load: Load::Clear([0.0; 4]), final_layout }], None)?;
         Ok(Self { render_pass, image })

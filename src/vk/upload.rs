@@ -1,6 +1,7 @@
 //! One-shot uploads of static data (meshes, the noise texture) through a staging buffer.
 //! Set-up only: each call waits for the GPU.
 
+use super::barrier::{SHADER_STAGES, VERTEX_INPUT_STAGES};
 use super::buffer::Buffer;
 use super::commands::one_shot;
 use super::device::Device;
@@ -27,8 +28,10 @@ pub fn buffer_with_data(
         let barrier = [vk::MemoryBarrier2::default()
             .src_stage_mask(vk::PipelineStageFlags2::COPY)
             .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
-            .dst_access_mask(vk::AccessFlags2::MEMORY_READ)];
+            .dst_stage_mask(VERTEX_INPUT_STAGES | SHADER_STAGES)
+            .dst_access_mask(
+                vk::AccessFlags2::VERTEX_ATTRIBUTE_READ | vk::AccessFlags2::INDEX_READ | vk::AccessFlags2::SHADER_READ,
+            )];
         device.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&barrier));
     })?;
     Ok(buffer)
@@ -67,8 +70,8 @@ pub fn image_with_data(
         let to_read = [vk::ImageMemoryBarrier2::default()
             .src_stage_mask(vk::PipelineStageFlags2::COPY)
             .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
-            .dst_access_mask(vk::AccessFlags2::SHADER_SAMPLED_READ)
+            .dst_stage_mask(SHADER_STAGES)
+            .dst_access_mask(vk::AccessFlags2::SHADER_READ)
             .old_layout(vk::ImageLayout::TRANSFER_DST_OPTIMAL)
             .new_layout(vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)
             .image(image.raw)
@@ -78,26 +81,49 @@ pub fn image_with_data(
     Ok(image)
 }
 
-/// Moves freshly created images from UNDEFINED to SHADER_READ_ONLY_OPTIMAL, for images a
-/// pipeline binds before any pass has written them (their contents stay undefined: the
-/// shaders that bind them read them only in frames whose passes wrote them first).
-pub fn make_sampleable(device: &Device, name: &str, images: &[&Image]) -> Result<()> {
+/// Clears freshly created images to zero and leaves them in SHADER_READ_ONLY_OPTIMAL, for
+/// images a pipeline binds before any pass has written them (the shaders that bind them read
+/// them only in frames whose passes wrote them first, but a defined zero is what a debugger
+/// shows, and a transition straight from UNDEFINED to a read-only layout is a pattern the
+/// best-practices layer rightly flags). The images need TRANSFER_DST usage.
+pub fn clear_to_sampled(device: &Device, name: &str, images: &[&Image]) -> Result<()> {
     if images.is_empty() {
         return Ok(());
     }
-    let barriers: Vec<vk::ImageMemoryBarrier2> = images
-        .iter()
-        .map(|image| {
-            vk::ImageMemoryBarrier2::default()
-                .dst_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
-                .dst_access_mask(vk::AccessFlags2::SHADER_SAMPLED_READ)
-                .old_layout(vk::ImageLayout::UNDEFINED)
-                .new_layout(vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)
-                .image(image.raw)
-                .subresource_range(image.full_range())
-        })
-        .collect();
+    let barriers = |to_clear: bool| -> Vec<vk::ImageMemoryBarrier2> {
+        images
+            .iter()
+            .map(|image| {
+                let b = vk::ImageMemoryBarrier2::default().image(image.raw).subresource_range(image.full_range());
+                if to_clear {
+                    b.dst_stage_mask(vk::PipelineStageFlags2::CLEAR)
+                        .dst_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+                        .old_layout(vk::ImageLayout::UNDEFINED)
+                        .new_layout(vk::ImageLayout::TRANSFER_DST_OPTIMAL)
+                } else {
+                    b.src_stage_mask(vk::PipelineStageFlags2::CLEAR)
+                        .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+                        .dst_stage_mask(SHADER_STAGES)
+                        .dst_access_mask(vk::AccessFlags2::SHADER_READ)
+                        .old_layout(vk::ImageLayout::TRANSFER_DST_OPTIMAL)
+                        .new_layout(vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)
+                }
+            })
+            .collect()
+    };
+    let (to_clear, to_read) = (barriers(true), barriers(false));
     one_shot(device, name, |cmd| unsafe {
-        device.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(&barriers));
+        device.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(&to_clear));
+        for image in images {
+            let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
+            if image.aspect.contains(vk::ImageAspectFlags::DEPTH) {
+                let value = vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 };
+                device.raw.cmd_clear_depth_stencil_image(cmd, image.raw, dst, &value, &[image.full_range()]);
+            } else {
+                let value = vk::ClearColorValue { float32: [0.0; 4] };
+                device.raw.cmd_clear_color_image(cmd, image.raw, dst, &value, &[image.full_range()]);
+            }
+        }
+        device.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(&to_read));
     })
 }
