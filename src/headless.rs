@@ -91,6 +91,33 @@ pub struct SceneImages {
     pub photon_records: Option<Vec<[f32; 4]>>,
 }
 
+impl SceneImages {
+    /// The photon effects that ran in this frame and deposited nothing (their buffer is zero
+    /// everywhere), each with what a user can check. A planned effect that lands no photon is
+    /// a fault to report, never a silent black buffer.
+    pub fn silent_effects(&self, scene: &Scene) -> Vec<String> {
+        let empty = |img: &Option<HdrImage>| img.as_ref().is_some_and(|i| i.pixels.iter().all(|p| p[..3] == [0.0; 3]));
+        let w = &scene.water;
+        let water = format!(
+            "the water covers x ∈ [{}, {}], z ∈ [{}, {}] at y = {} m",
+            w.extent_min.x, w.extent_max.x, w.extent_min.y, w.extent_max.y, w.level
+        );
+        let mut notes = Vec::new();
+        if empty(&self.caustics) {
+            notes.push(format!(
+                "caustics ran but no photon landed in the view (the caustic buffer is zero): no photon that enters the water reaches a receiver the camera sees ({water}; the light travels along {}). Check water.extent_min/extent_max, light.direction and the camera",
+                scene.light.direction
+            ));
+        }
+        if empty(&self.godrays) {
+            notes.push(format!(
+                "godrays ran but no beam reached the view (the godray buffer is zero): no photon that enters the water ends on a receiver in front of the camera ({water}). Check water.extent_min/extent_max, light.direction and the camera"
+            ));
+        }
+        notes
+    }
+}
+
 /// A scene's frame with its ring of frames in flight and read-backs, kept alive across
 /// renders so benchmarks time frames, not set-up.
 pub struct SceneRenderer {

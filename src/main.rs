@@ -445,6 +445,16 @@ fn render_scene(cli: &Cli, args: &SceneArgs) -> Result<i32> {
         renderer.render(args.frames.max(1), args.time, 1.0 / 60.0, true)?
     };
     let images = images.expect("read back requested");
+    let silent = images.silent_effects(&scene);
+    if args.explain && !silent.is_empty() {
+        println!("after the last frame:");
+    }
+    for note in &silent {
+        if args.explain {
+            println!("  {note}");
+        }
+        eprintln!("warning: {note}");
+    }
     image_io::write_png(&args.out, images.width, images.height, &images.output)?;
     println!("wrote {}", args.out.display());
     if let Some(dir) = &args.hdr {

@@ -336,3 +336,50 @@ fn point_light_above_in_and_under_the_water() {
     assert_clean_shutdown(ctx);
     assert!(fluxes.iter().all(|f| *f > 0.0), "{fluxes:?}");
 }
+
+/// A camera looking straight down with a far z_far and a near sun (`light.distance` = 10 m)
+/// used to put the directional light's frame under the water: every photon was dropped and
+/// the caustic buffer was zero without a word. The frame is now placed from the scene's
+/// bounds; the caustic flux on the floor is what enters the water.
+#[test]
+fn directional_light_never_sits_under_the_water() {
+    let ctx = validated_context();
+    let mut scene = overview(0.0);
+    scene.camera.position = Vec3::new(0.0, -0.1, 0.0);
+    scene.camera.z_far = 20.0;
+    scene.light.distance = 10.0;
+    let images = render(&ctx, &scene, 0.0, "z_far 20, distance 10");
+    assert!(images.silent_effects(&scene).is_empty(), "{:?}", images.silent_effects(&scene));
+    let share = floor_flux_in_view(&scene, images.caustics.as_ref().unwrap()) / flux_into_water(&scene);
+    // The distance scales the irradiance only: the share of the entering flux that lands on
+    // the floor in view is the same as with the sun 100 m away (0.23 at a zenith sun).
+    let mut far = scene.clone();
+    far.light.distance = 100.0;
+    let far_images = render(&ctx, &far, 0.0, "z_far 20, distance 100");
+    let far_share = floor_flux_in_view(&far, far_images.caustics.as_ref().unwrap()) / flux_into_water(&far);
+    assert!(share > 0.1, "share of the entering flux on the floor: {share}");
+    assert!((share / far_share - 1.0).abs() < 0.01, "share {share} at 10 m, {far_share} at 100 m");
+    assert_clean_shutdown(ctx);
+}
+
+/// An effect that runs and lands nothing is reported, naming the effect and what to check:
+/// here the water lies far from everything the camera sees.
+#[test]
+fn an_effect_that_deposits_nothing_is_reported() {
+    let ctx = validated_context();
+    let mut scene = overview(0.05);
+    scene.water.extent_min = glam::Vec2::new(40.0, 40.0);
+    scene.water.extent_max = glam::Vec2::new(41.0, 41.0);
+    let images = render(&ctx, &scene, 0.0, "water far away");
+    let notes = images.silent_effects(&scene);
+    assert!(notes.iter().any(|n| n.starts_with("caustics ran but no photon landed")), "{notes:?}");
+    assert!(notes.iter().any(|n| n.starts_with("godrays ran but no beam")), "{notes:?}");
+    assert!(notes.iter().all(|n| n.contains("water.extent_min")), "{notes:?}");
+    // And the shipped scenes deposit something.
+    let tank = underlight::scene::load("tank").unwrap();
+    let mut small = tank.clone();
+    small.output = [64, 48];
+    let images = render(&ctx, &small, 0.0, "tank");
+    assert!(images.silent_effects(&small).is_empty(), "{:?}", images.silent_effects(&small));
+    assert_clean_shutdown(ctx);
+}

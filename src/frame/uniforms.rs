@@ -69,6 +69,17 @@ pub fn camera_matrices(scene: &Scene, aspect: f32) -> (Mat4, Mat4) {
     (view, proj)
 }
 
+/// The eight corners of the box `lo`..`hi`.
+fn scene_corners_of(lo: Vec3, hi: Vec3) -> [Vec3; 8] {
+    std::array::from_fn(|i| {
+        Vec3::new(
+            if i & 1 == 0 { lo.x } else { hi.x },
+            if i & 2 == 0 { lo.y } else { hi.y },
+            if i & 4 == 0 { lo.z } else { hi.z },
+        )
+    })
+}
+
 /// The light's view-projection and its photon-flux parameters, following the camera.
 #[derive(Clone, Copy, Debug)]
 pub struct LightFrame {
@@ -122,18 +133,19 @@ pub fn light_frame(scene: &Scene, bounds: (Vec3, Vec3), aspect: f32) -> LightFra
             corners[k + 2] = photon_entry(scene, corners[k + 1]).clamp(lo_all, hi_all);
         }
     }
-    let scene_corners: [Vec3; 8] = std::array::from_fn(|i| {
-        Vec3::new(
-            if i & 1 == 0 { lo_all.x } else { hi_all.x },
-            if i & 2 == 0 { lo_all.y } else { hi_all.y },
-            if i & 4 == 0 { lo_all.z } else { hi_all.z },
-        )
-    });
+    let scene_corners = scene_corners_of(lo_all, hi_all);
 
     match scene.light.kind {
         LightKind::Directional => {
             let dir = scene.light.direction.normalize();
-            let position = p_mid - dir * scene.light.distance;
+            // The frame's origin sits back along the light's direction, 1 m beyond the farthest
+            // corner of the scene and its water, so every photon ray starts above the water and
+            // in front of everything it can meet. `light.distance` only scales the irradiance
+            // (E⊥ = I / distance²): placing the frame at that distance from the view's middle
+            // put it under the water for a camera looking down with a far z_far, and every
+            // photon was dropped without a word (tests/extremes.rs).
+            let back = scene_corners.iter().map(|q| (*q - p_mid).dot(-dir)).fold(0.0f32, f32::max);
+            let position = p_mid - dir * (back + 1.0);
             let up = if dir.cross(Vec3::Z).length_squared() < 1e-6 { Vec3::X } else { Vec3::Z };
             let view = look_at_mat4(position, p_mid, up);
             let (mut min, mut max) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
