@@ -702,14 +702,13 @@ fn write_obj(dir: &Path, name: &str, text: &str) -> PathBuf {
 fn malformed_obj_files_are_errors_naming_the_file_and_line() {
     let dir = scratch("obj-malformed");
     let cases: &[(&str, &str)] = &[
-        ("v 0 0 0\nv 1 0 x\nv 0 1 0\nf 1 2 3\n", "bad-position.obj:2:"),
+        ("v 0 0 0\nv 1 0 x\nv 0 1 0\nf 1 2 3\n", "bad-position.obj:2: `v` coordinate `x` is not a number"),
         ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", "bad-position.obj:4: f `9`: vertex index 9 is out of range"),
         ("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 1 0\nf 1//1 2//2 3//1\n", "normal index 2 is out of range"),
         ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n", "vertex index 0 is out of range"),
         ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n", "vertex index -4 is out of range"),
         ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3/x\n", "bad-position.obj:4:"),
         ("v 0 0 0\nv 1 inf 0\nv 0 1 0\nf 1 2 3\n", "bad-position.obj:2: non-finite"),
-        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 0\nf 1//1 2//1 3//1\n", "bad-position.obj:4: zero-length normal"),
     ];
     for (text, expected) in cases {
         let path = write_obj(&dir, "bad-position.obj", text);
@@ -726,14 +725,14 @@ fn obj_without_normals_gets_unit_normals_from_its_faces() {
     let dir = scratch("obj-normals");
     // A square in the xz plane, counter-clockwise seen from above: normals are +y.
     let path = write_obj(&dir, "square.obj", "v 0 0 0\nv 0 0 1\nv 1 0 1\nv 1 0 0\nf 1 2 3 4\n");
-    let meshes = obj::load_obj(&path).unwrap();
+    let meshes = obj::load_obj(&path).unwrap().meshes;
     assert_eq!(meshes.len(), 1);
     assert!(meshes[0].normals.iter().all(|n| (*n - Vec3::Y).length() < 1e-6), "{:?}", meshes[0].normals);
     // A tent of two triangles sharing the ridge A-B, sloping up-left (normal ∝ (-1, 1, 0))
     // and up-right (∝ (1, 1, 0)). Equal areas: the ridge normals point straight up.
     let ridge = "v 1 1 0\nv 1 1 1\nv 0 0 0.5\n";
     let tent = write_obj(&dir, "tent.obj", &format!("{ridge}v 2 0 0.5\nf 3 2 1\nf 4 1 2\n"));
-    let m = &obj::load_obj(&tent).unwrap()[0];
+    let m = &obj::load_obj(&tent).unwrap().meshes[0];
     for (p, n) in m.positions.iter().zip(&m.normals) {
         assert!(n.is_finite() && (n.length() - 1.0).abs() < 1e-5, "{n}");
         if p.y == 1.0 {
@@ -742,7 +741,7 @@ fn obj_without_normals_gets_unit_normals_from_its_faces() {
     }
     // The right face twice as large: it weighs twice, (-1, 1, 0) + 2 (1, 1, 0) ∝ (1, 3, 0).
     let lopsided = write_obj(&dir, "lopsided.obj", &format!("{ridge}v 3 -1 0.5\nf 3 2 1\nf 4 1 2\n"));
-    let m = &obj::load_obj(&lopsided).unwrap()[0];
+    let m = &obj::load_obj(&lopsided).unwrap().meshes[0];
     let expected = Vec3::new(1.0, 3.0, 0.0).normalize();
     for (p, n) in m.positions.iter().zip(&m.normals) {
         if p.y == 1.0 {
@@ -751,7 +750,7 @@ fn obj_without_normals_gets_unit_normals_from_its_faces() {
     }
     // Given normals are kept, made unit.
     let given = write_obj(&dir, "given.obj", "v 0 0 0\nv 0 0 1\nv 1 0 1\nvn 0 2 0\nf 1//1 2//1 3//1\n");
-    assert_eq!(obj::load_obj(&given).unwrap()[0].normals, vec![Vec3::Y; 3]);
+    assert_eq!(obj::load_obj(&given).unwrap().meshes[0].normals, vec![Vec3::Y; 3]);
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -759,16 +758,16 @@ fn obj_without_normals_gets_unit_normals_from_its_faces() {
 fn obj_quads_are_triangulated_and_degenerate_triangles_dropped() {
     let dir = scratch("obj-triangles");
     let quad = write_obj(&dir, "quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
-    let m = &obj::load_obj(&quad).unwrap()[0];
+    let m = &obj::load_obj(&quad).unwrap().meshes[0];
     assert_eq!((m.positions.len(), m.indices.len()), (4, 6));
     // One real triangle, one with collinear corners, one with a repeated corner.
     let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\nf 1 1 3\n";
-    let m = &obj::load_obj(&write_obj(&dir, "degenerate.obj", text)).unwrap()[0];
+    let m = &obj::load_obj(&write_obj(&dir, "degenerate.obj", text)).unwrap().meshes[0];
     assert_eq!(m.indices.len(), 3, "{:?}", m.indices);
     assert_eq!(m.positions.len(), 3, "the vertex only the dropped triangles used is gone");
     // Only degenerate triangles: no mesh at all.
     let flat = write_obj(&dir, "flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
-    assert!(obj::load_obj(&flat).unwrap().is_empty());
+    assert!(obj::load_obj(&flat).unwrap().meshes.is_empty());
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -781,16 +780,18 @@ fn mtl_diffuse_colour_becomes_the_albedo() {
                 o grey_one\nf 1 3 2\n\
                 o red_one\nusemtl red\nf 1 2 3\n\
                 o plain_one\nusemtl plain\nf 1 2 3\n";
-    let meshes = obj::load_obj(&write_obj(&dir, "coloured.obj", text)).unwrap();
+    let meshes = obj::load_obj(&write_obj(&dir, "coloured.obj", text)).unwrap().meshes;
     let names: Vec<&str> = meshes.iter().map(|m| m.name.as_str()).collect();
     assert_eq!(names, ["grey_one", "red_one", "plain_one"]);
     assert_eq!(meshes[0].albedo, obj::DEFAULT_ALBEDO, "no material is grey");
     assert_eq!(meshes[1].albedo, Vec3::new(0.9, 0.1, 0.2));
     assert_eq!(meshes[2].albedo, obj::DEFAULT_ALBEDO, "a material without Kd is grey");
-    // A missing or broken MTL file is an error naming it.
-    let missing = write_obj(&dir, "missing-mtl.obj", "mtllib nothere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-    let message = format!("{:#}", obj::load_obj(&missing).unwrap_err());
-    assert!(message.contains("missing-mtl.obj") && message.contains("nothere.mtl"), "{message}");
+    // A missing MTL file is a warning naming it, and the default material; a broken one is
+    // an error naming it.
+    let missing = write_obj(&dir, "missing-mtl.obj", "mtllib nothere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n");
+    let model = obj::load_obj(&missing).unwrap();
+    assert_eq!(model.meshes[0].albedo, obj::DEFAULT_ALBEDO);
+    assert!(model.warnings.iter().any(|w| w.contains("nothere.mtl") && w.contains("does not exist")), "{:?}", model.warnings);
     std::fs::write(dir.join("bright.mtl"), "newmtl bright\nKd 1.5 0.5 0.5\n").unwrap();
     let bright =
         write_obj(&dir, "bright.obj", "mtllib bright.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl bright\nf 1 2 3\n");
@@ -799,6 +800,79 @@ fn mtl_diffuse_colour_becomes_the_albedo() {
     std::fs::write(dir.join("broken.mtl"), "newmtl broken\nKd 0.5 x 0.5\n").unwrap();
     let broken = write_obj(&dir, "broken-mtl.obj", "mtllib broken.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     let message = format!("{:#}", obj::load_obj(&broken).unwrap_err());
-    assert!(message.contains("broken.mtl:2:"), "{message}");
+    assert!(message.contains("broken.mtl:2:") && message.contains("`x`"), "{message}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// OBJ files as exporters write them (issue 14's cases): each loads, with a warning naming
+/// what was repaired or ignored, or fails with the file, the line and the offending token.
+#[test]
+fn obj_files_as_exporters_write_them() {
+    let dir = scratch("obj-wild");
+    let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    // A Latin-1 byte (é = 0xE9) in a material name, in the OBJ and in its MTL.
+    std::fs::write(dir.join("latin.mtl"), b"newmtl caf\xE9\nKd 0.2 0.4 0.6\n").unwrap();
+    let mut bytes = b"mtllib latin.mtl\n".to_vec();
+    bytes.extend_from_slice(tri.as_bytes());
+    bytes.extend_from_slice(b"usemtl caf\xE9\nf 1 2 3\n");
+    std::fs::write(dir.join("latin.obj"), &bytes).unwrap();
+    let model = obj::load_obj(&dir.join("latin.obj")).unwrap();
+    assert_eq!(model.meshes[0].albedo, Vec3::new(0.2, 0.4, 0.6), "the Latin-1 name still finds its material");
+    assert!(model.warnings.iter().any(|w| w.contains("latin.obj:5") && w.contains("Latin-1")), "{:?}", model.warnings);
+    assert!(model.warnings.iter().any(|w| w.contains("latin.mtl:1") && w.contains("Latin-1")), "{:?}", model.warnings);
+
+    // UTF-16, little-endian with a byte-order mark, and big-endian without one.
+    let text = format!("{tri}f 1 2 3\n");
+    let mut le = vec![0xFF, 0xFE];
+    le.extend(text.encode_utf16().flat_map(|u| u.to_le_bytes()));
+    std::fs::write(dir.join("utf16le.obj"), &le).unwrap();
+    let be: Vec<u8> = text.encode_utf16().flat_map(|u| u.to_be_bytes()).collect();
+    std::fs::write(dir.join("utf16be.obj"), &be).unwrap();
+    for name in ["utf16le.obj", "utf16be.obj"] {
+        let model = obj::load_obj(&dir.join(name)).unwrap();
+        assert_eq!(model.meshes[0].indices.len(), 3, "{name}");
+        assert!(model.warnings.iter().any(|w| w.contains("UTF-16")), "{name}: {:?}", model.warnings);
+    }
+
+    // One zero-length normal among many: that corner takes the face's normal.
+    let mut text = String::from(tri);
+    for _ in 0..300 {
+        text.push_str("vn 0 0 1\n");
+    }
+    text.push_str("vn 0 0 0\nf 1//1 2//301 3//2\n");
+    let model = obj::load_obj(&write_obj(&dir, "zero-normal.obj", &text)).unwrap();
+    let m = &model.meshes[0];
+    assert!(m.normals.iter().all(|n| (*n - Vec3::Z).length() < 1e-6), "{:?}", m.normals);
+    assert!(model.warnings.iter().any(|w| w.contains("1 face corner(s) had a zero-length normal")), "{:?}", model.warnings);
+
+    // `newmtl` with an empty name, used by an empty `usemtl`.
+    std::fs::write(dir.join("empty-name.mtl"), "newmtl\nKd 0.1 0.2 0.3\n").unwrap();
+    let text = format!("mtllib empty-name.mtl\n{tri}usemtl\nf 1 2 3\n");
+    let model = obj::load_obj(&write_obj(&dir, "empty-name.obj", &text)).unwrap();
+    assert_eq!(model.meshes[0].albedo, Vec3::new(0.1, 0.2, 0.3));
+
+    // A square ring bridged to its square hole, as one polygon: ear clipping leaves the hole
+    // open (a fan from the first corner covers it).
+    let ring = "v 0 0 0\nv 4 0 0\nv 4 4 0\nv 0 4 0\nv 1 1 0\nv 1 3 0\nv 3 3 0\nv 3 1 0\nf 1 2 3 4 1 5 6 7 8 5\n";
+    let m = &obj::load_obj(&write_obj(&dir, "ring.obj", ring)).unwrap().meshes[0];
+    let centre = Vec3::new(2.5, 1.5, 0.0); // inside the hole, off the square's diagonals
+    let area: f32 = triangles(m).map(|[a, b, c]| (b - a).cross(c - a).length() / 2.0).sum();
+    assert!((area - 12.0).abs() < 1e-4, "area {area}: the ring is 16 − 4 m²");
+    let dist = Vec3::new(0.0, 0.0, 1.0);
+    assert_eq!(crossings(m, centre - dist, dist), 0, "a triangle covers the hole");
+
+    // Polylines and points are ignored with a warning; a file of nothing else has no triangles.
+    let text = format!("{tri}l 1 2 3\np 1\nf 1 2 3\n");
+    let model = obj::load_obj(&write_obj(&dir, "lines.obj", &text)).unwrap();
+    assert_eq!(model.meshes[0].indices.len(), 3, "the polyline is not a face");
+    assert!(model.warnings.iter().any(|w| w.contains("ignored 2 polyline/point record(s)") && w.contains("lines 4, 5")), "{:?}", model.warnings);
+    write_obj(&dir, "only-lines.obj", &format!("{tri}l 1 2 3\n"));
+    let scene_text = VALID.replacen("box.obj", "only-lines.obj", 1);
+    assert!(scene_text != VALID, "the valid scene names box.obj");
+    assert_error(&dir, &scene_text, &["only-lines.obj has no triangles"]);
+
+    // A parse error quotes the token, with the file and line.
+    let message = format!("{:#}", obj::load_obj(&write_obj(&dir, "token.obj", "v 0 0 0\nv 1 0,5 0\n")).unwrap_err());
+    assert!(message.contains("token.obj:2:") && message.contains("`0,5`"), "{message}");
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -539,8 +539,12 @@ impl ObjectFile {
         }
         let base = ctx.origin.parent().unwrap_or(Path::new(""));
         let path = base.join(&self.obj);
-        let mut meshes = super::obj::load_obj(&path)
+        let model = super::obj::load_obj(&path)
             .with_context(|| format!("{}: objects[{index}].obj = {:?}", ctx.at(&field("obj")), self.obj))?;
+        for w in &model.warnings {
+            eprintln!("warning: objects[{index}].obj: {w}");
+        }
+        let mut meshes = model.meshes;
         if meshes.is_empty() {
             return Err(ctx.error(&field("obj"), format_args!("= {:?}: {} has no triangles", self.obj, path.display())));
         }

@@ -20,26 +20,47 @@ use std::path::Path;
 /// Albedo of geometry without a material (or whose material has no `Kd`).
 pub const DEFAULT_ALBEDO: Vec3 = Vec3::splat(0.8);
 
+/// What an OBJ file gave: its meshes, and what was repaired or ignored on the way (each a
+/// line for the user: the file, the line numbers and what was done).
+#[derive(Debug, Default)]
+pub struct ObjModel {
+    pub meshes: Vec<Mesh>,
+    pub warnings: Vec<String>,
+}
+
 /// Loads an OBJ file (and the MTL files it names, relative to it) as world-space-ready meshes.
-pub fn load_obj(path: &Path) -> Result<Vec<Mesh>> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read OBJ file {}", path.display()))?;
+///
+/// Files as exporters write them load, with a warning for what was repaired: names in
+/// Latin-1 or UTF-16 (names are labels; the numbers are ASCII either way), zero-length
+/// normals (replaced by their face's normal), empty material names, a missing MTL file (the
+/// default material), polylines and points (`l`, `p`: ignored), and non-convex polygons
+/// (triangulated by ear clipping, not as a fan, which would fill their holes).
+pub fn load_obj(path: &Path) -> Result<ObjModel> {
+    let bytes = std::fs::read(path).with_context(|| format!("cannot read OBJ file {}", path.display()))?;
+    let mut warnings = Vec::new();
+    let text = decode_text(&bytes, path, &mut warnings);
     check_obj_text(&text).map_err(|(line, message)| anyhow!("{}:{line}: {message}", path.display()))?;
+    let text = prepare_for_tobj(&text, path, &mut warnings);
 
     // tobj's material callback cannot return our error, so it is parked here and checked
     // first: a broken MTL file would otherwise only show up as a missing material.
     let mtl_error: RefCell<Option<anyhow::Error>> = RefCell::new(None);
+    let mtl_warnings: RefCell<Vec<String>> = RefCell::new(Vec::new());
     let base = path.parent().unwrap_or(Path::new(""));
-    let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
+    // Polygons are triangulated here (ear clipping), not by tobj (a fan).
+    let options = tobj::LoadOptions { triangulate: false, single_index: true, ..Default::default() };
     // Reading from a slice leaves it at the end of the line tobj failed on.
     let mut rest = text.as_bytes();
-    let loaded = tobj::load_obj_buf(&mut rest, &options, |mtl| load_mtl(&base.join(mtl), &mtl_error));
+    let loaded = tobj::load_obj_buf(&mut rest, &options, |mtl| load_mtl(&base.join(mtl), &mtl_error, &mtl_warnings));
     if let Some(e) = mtl_error.into_inner() {
         return Err(e.context(format!("{}: its mtllib", path.display())));
     }
+    warnings.extend(mtl_warnings.into_inner());
     let (models, materials) = loaded.map_err(|e| anyhow!("{}:{}: {e}", path.display(), failing_line(&text, rest)))?;
     let materials = materials.map_err(|e| anyhow!("{}: materials: {e}", path.display()))?;
 
     let mut meshes = Vec::with_capacity(models.len());
+    let mut repaired_normals = 0usize;
     for model in models {
         let material = model.mesh.material_id.and_then(|id| materials.get(id));
         let albedo = match material.and_then(|m| m.diffuse) {
@@ -59,31 +80,152 @@ pub fn load_obj(path: &Path) -> Result<Vec<Mesh>> {
             }
             None => DEFAULT_ALBEDO,
         };
-        if let Some(mesh) = build_mesh(model.name, &model.mesh, albedo) {
+        if let Some((mesh, repaired)) = build_mesh(model.name, &model.mesh, albedo) {
+            repaired_normals += repaired;
             meshes.push(mesh);
         }
     }
-    Ok(meshes)
+    if repaired_normals > 0 {
+        warnings.push(format!(
+            "{}: {repaired_normals} face corner(s) had a zero-length normal: each takes its face's normal",
+            path.display()
+        ));
+    }
+    Ok(ObjModel { meshes, warnings })
 }
 
+/// The text of an OBJ or MTL file. UTF-8 (with or without a byte-order mark) as it is;
+/// UTF-16 (by its byte-order mark, or by the zero bytes of ASCII text) decoded; anything else
+/// read as Latin-1, every byte one character: exporters write material and object names in
+/// the system's 8-bit code page, and those names are only labels.
+fn decode_text(bytes: &[u8], path: &Path, warnings: &mut Vec<String>) -> String {
+    let utf16 = |bytes: &[u8], little: bool| -> String {
+        let units = bytes.chunks_exact(2).map(|c| if little { u16::from_le_bytes([c[0], c[1]]) } else { u16::from_be_bytes([c[0], c[1]]) });
+        char::decode_utf16(units).map(|c| c.unwrap_or(char::REPLACEMENT_CHARACTER)).collect()
+    };
+    if let Some(rest) = bytes.strip_prefix(&[0xEF, 0xBB, 0xBF]) {
+        if let Ok(text) = std::str::from_utf8(rest) {
+            return text.to_owned();
+        }
+    }
+    let (little, rest) = match bytes {
+        [0xFF, 0xFE, rest @ ..] => (Some(true), rest),
+        [0xFE, 0xFF, rest @ ..] => (Some(false), rest),
+        _ => (None, bytes),
+    };
+    // Without a mark: ASCII text in UTF-16 has a zero in every other byte.
+    let zeros_at = |parity: usize| bytes.iter().skip(parity).step_by(2).filter(|&&b| b == 0).count();
+    let half = bytes.len() / 2;
+    let little = little.or_else(|| {
+        (half >= 4 && zeros_at(1) * 10 >= half * 9).then_some(true).or((half >= 4 && zeros_at(0) * 10 >= half * 9).then_some(false))
+    });
+    if let Some(little) = little {
+        warnings.push(format!(
+            "{}: decoded as UTF-16 ({}-endian); UTF-8 is what OBJ readers expect",
+            path.display(),
+            if little { "little" } else { "big" }
+        ));
+        return utf16(rest, little);
+    }
+    match std::str::from_utf8(bytes) {
+        Ok(text) => text.to_owned(),
+        Err(e) => {
+            let line = bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count() + 1;
+            warnings.push(format!(
+                "{}:{line}: not UTF-8 (byte 0x{:02X}): the file is read as Latin-1, so names show as their 8-bit characters",
+                path.display(),
+                bytes[e.valid_up_to()]
+            ));
+            bytes.iter().map(|&b| b as char).collect()
+        }
+    }
+}
+
+/// Rewrites what tobj refuses but the renderer can use, keeping every line where it is (so
+/// tobj's line numbers stay true): `l` and `p` records become empty lines (with a warning:
+/// underlight renders faces), and an empty `usemtl` / `newmtl` name becomes `(unnamed)`.
+fn prepare_for_tobj(text: &str, path: &Path, warnings: &mut Vec<String>) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut skipped: Vec<usize> = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("l" | "p") => skipped.push(i + 1),
+            Some(keyword @ ("usemtl" | "newmtl")) if words.next().is_none() => {
+                out.push_str(keyword);
+                out.push_str(" ");
+                out.push_str(UNNAMED_MATERIAL);
+            }
+            _ => out.push_str(line),
+        }
+        out.push('\n');
+    }
+    if !skipped.is_empty() {
+        let shown: Vec<String> = skipped.iter().take(5).map(|l| l.to_string()).collect();
+        warnings.push(format!(
+            "{}: ignored {} polyline/point record(s) (`l`, `p`; lines {}{}): underlight renders faces only",
+            path.display(),
+            skipped.len(),
+            shown.join(", "),
+            if skipped.len() > 5 { ", …" } else { "" }
+        ));
+    }
+    out
+}
+
+/// The name an empty `newmtl` / `usemtl` gets.
+pub const UNNAMED_MATERIAL: &str = "(unnamed)";
+
 /// Loads one MTL file for tobj. A failure is parked in `error` with the file (and the line
-/// tobj stopped at), since tobj would only keep its position-less error kind.
-fn load_mtl(path: &Path, error: &RefCell<Option<anyhow::Error>>) -> tobj::MTLLoadResult {
+/// tobj stopped at), since tobj would only keep its position-less error kind. A missing file
+/// is a warning: the model renders with the default material.
+fn load_mtl(path: &Path, error: &RefCell<Option<anyhow::Error>>, warnings: &RefCell<Vec<String>>) -> tobj::MTLLoadResult {
     let park = |e: anyhow::Error, kind: tobj::LoadError| {
         error.borrow_mut().get_or_insert(e);
         Err(kind)
     };
-    let text = match std::fs::read_to_string(path) {
-        Ok(text) => text,
+    let bytes = match std::fs::read(path) {
+        Ok(bytes) => bytes,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            warnings.borrow_mut().push(format!(
+                "MTL file {} does not exist: its materials get the default albedo {}",
+                path.display(),
+                DEFAULT_ALBEDO.x
+            ));
+            return Ok((Vec::new(), Default::default()));
+        }
         Err(e) => {
             return park(anyhow!("cannot read MTL file {}: {e}", path.display()), tobj::LoadError::OpenFileFailed)
         }
     };
+    let mut notes = Vec::new();
+    let text = decode_text(&bytes, path, &mut notes);
+    warnings.borrow_mut().extend(notes);
+    if let Err((line, message)) = check_mtl_text(&text) {
+        return park(anyhow!("{}:{line}: {message}", path.display()), tobj::LoadError::MaterialParseError);
+    }
+    let text = prepare_for_tobj(&text, path, &mut Vec::new());
     let mut rest = text.as_bytes();
     match tobj::load_mtl_buf(&mut rest) {
         Ok(loaded) => Ok(loaded),
         Err(e) => park(anyhow!("{}:{}: {e}", path.display(), failing_line(&text, rest)), e),
     }
+}
+
+/// Numbers in an MTL file, quoted with their line when one does not parse (tobj says only
+/// which kind of value failed).
+fn check_mtl_text(text: &str) -> std::result::Result<(), (usize, String)> {
+    for (i, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        if let Some(keyword @ ("Ka" | "Kd" | "Ks" | "Ke" | "Tf" | "Ns" | "Ni" | "d" | "Tr" | "illum")) = words.next() {
+            for w in words {
+                if w.parse::<f32>().is_err() {
+                    return Err((i + 1, format!("`{keyword}` value `{w}` is not a number")));
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The 1-based line a `BufRead` over `text` stopped at, given what it left unread: the last
@@ -102,24 +244,26 @@ fn check_obj_text(text: &str) -> std::result::Result<(), (usize, String)> {
         let line_no = i + 1;
         let mut words = line.split_whitespace();
         match words.next() {
-            Some(keyword @ ("v" | "vn")) => {
-                // Parse failures are left to tobj; only values Rust parses but the renderer
-                // cannot use (`nan`, `inf`) are caught here.
-                let xyz: Vec<f32> = words.take(3).filter_map(|w| w.parse().ok()).collect();
+            Some(keyword @ ("v" | "vn" | "vt")) => {
+                let mut xyz = Vec::with_capacity(3);
+                for w in words.by_ref() {
+                    let value: f32 = w.parse().map_err(|_| (line_no, format!("`{keyword}` coordinate `{w}` is not a number")))?;
+                    xyz.push(value);
+                }
+                let needed = if keyword == "vt" { 1 } else { 3 };
+                if xyz.len() < needed {
+                    return Err((line_no, format!("`{keyword}` needs {needed} coordinate(s), got {} in `{}`", xyz.len(), line.trim())));
+                }
                 if xyz.iter().any(|c| !c.is_finite()) {
                     return Err((line_no, format!("non-finite coordinate in `{}`", line.trim())));
                 }
-                if keyword == "v" {
-                    positions += 1;
-                } else {
-                    // Zero, or so small or large that its length under- or overflows.
-                    if xyz.len() == 3 && Vec3::new(xyz[0], xyz[1], xyz[2]).try_normalize().is_none() {
-                        return Err((line_no, format!("zero-length normal `{}` cannot be normalised", line.trim())));
-                    }
-                    normals += 1;
+                // A zero-length normal is repaired later (its face's normal), with a warning.
+                match keyword {
+                    "v" => positions += 1,
+                    "vn" => normals += 1,
+                    _ => texcoords += 1,
                 }
             }
-            Some("vt") => texcoords += 1,
             Some(keyword @ ("f" | "l")) => {
                 let mut corners = 0;
                 for corner in words {
@@ -159,33 +303,125 @@ fn check_corner(corner: &str, counts: [usize; 3]) -> std::result::Result<(), Str
     Ok(())
 }
 
-/// A tobj mesh as a renderer mesh: zero-area triangles dropped, unused vertices removed,
-/// normals made unit (or computed). `None` when no triangle is left.
-fn build_mesh(name: String, mesh: &tobj::Mesh, albedo: Vec3) -> Option<Mesh> {
-    let positions: Vec<Vec3> = mesh.positions.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2])).collect();
-    // With `single_index` tobj stores a normal per vertex only if every face corner had one;
-    // a file that mixes faces with and without normals yields fewer normals than vertices,
-    // and then they cannot be matched to vertices: compute them all instead.
-    let given_normals = (mesh.normals.len() == mesh.positions.len())
-        .then(|| mesh.normals.chunks_exact(3).map(|n| Vec3::new(n[0], n[1], n[2]).normalize()).collect::<Vec<_>>());
-
-    let triangles: Vec<[u32; 3]> = mesh
-        .indices
-        .chunks_exact(3)
-        .map(|t| [t[0], t[1], t[2]])
+/// A tobj mesh as a renderer mesh: polygons triangulated (ear clipping), zero-area triangles
+/// dropped, unused vertices removed, normals made unit (or computed). A face corner whose
+/// normal has zero length takes its face's normal. `None` when no triangle is left; else the
+/// mesh and the number of corners whose normal was repaired.
+fn build_mesh(name: String, mesh: &tobj::Mesh, albedo: Vec3) -> Option<(Mesh, usize)> {
+    let mut positions: Vec<Vec3> = mesh.positions.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2])).collect();
+    let triangles: Vec<[u32; 3]> = triangulate(&positions, &mesh.indices, &mesh.face_arities)
+        .into_iter()
         .filter(|t| !is_degenerate(positions[t[0] as usize], positions[t[1] as usize], positions[t[2] as usize]))
         .collect();
     if triangles.is_empty() {
         return None;
     }
-    let (positions, normals, indices) = match given_normals {
-        Some(normals) => compact(&positions, &normals, &triangles),
-        None => {
-            let (positions, triangles) = compact_positions(&positions, &triangles);
-            smooth_normals(positions, triangles)
+    // With `single_index` tobj stores a normal per vertex only if every face corner had one;
+    // a file that mixes faces with and without normals yields fewer normals than vertices,
+    // and then they cannot be matched to vertices: compute them all instead.
+    if mesh.normals.len() != mesh.positions.len() {
+        let (positions, triangles) = compact_positions(&positions, &triangles);
+        let (p, n, i) = smooth_normals(positions, triangles);
+        return Some((Mesh { name, positions: p, normals: n, indices: i, albedo }, 0));
+    }
+    let mut normals: Vec<Vec3> = mesh.normals.chunks_exact(3).map(|n| Vec3::new(n[0], n[1], n[2]).try_normalize().unwrap_or(Vec3::ZERO)).collect();
+    // A zero normal cannot be lit: its corner gets a copy of the vertex with the face's normal.
+    let mut repaired = 0;
+    let mut fixed: Vec<[u32; 3]> = Vec::with_capacity(triangles.len());
+    for t in &triangles {
+        let mut t = *t;
+        let flat = face_normal(&positions, &t).normalize();
+        for v in &mut t {
+            if normals[*v as usize] == Vec3::ZERO {
+                repaired += 1;
+                positions.push(positions[*v as usize]);
+                normals.push(flat);
+                *v = (positions.len() - 1) as u32;
+            }
         }
+        fixed.push(t);
+    }
+    let (positions, normals, indices) = compact(&positions, &normals, &fixed);
+    Some((Mesh { name, positions, normals, indices, albedo }, repaired))
+}
+
+/// Triangles of tobj's faces: `arities` gives each face's corner count (empty: all are
+/// triangles). Polygons are ear-clipped in their own plane (Newell's normal), so a
+/// non-convex outline, or a ring bridged to its hole, keeps its shape; a fan from the first
+/// corner would cover the concave parts and the hole.
+fn triangulate(positions: &[Vec3], indices: &[u32], arities: &[u32]) -> Vec<[u32; 3]> {
+    if arities.is_empty() {
+        return indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
+    }
+    let mut out = Vec::with_capacity(indices.len());
+    let mut start = 0usize;
+    for &n in arities {
+        let face = &indices[start..start + n as usize];
+        start += n as usize;
+        ear_clip(positions, face, &mut out);
+    }
+    out
+}
+
+/// Ear clipping of one polygon (corners in order, either winding): repeatedly cuts off a
+/// convex corner whose triangle holds no other corner. Output triangles keep the polygon's
+/// winding. A polygon with no ear left (self-intersecting) is finished as a fan.
+fn ear_clip(positions: &[Vec3], face: &[u32], out: &mut Vec<[u32; 3]>) {
+    if face.len() < 3 {
+        return;
+    }
+    // Newell's normal: robust for non-convex and slightly non-planar polygons.
+    let mut normal = Vec3::ZERO;
+    for i in 0..face.len() {
+        let (a, b) = (positions[face[i] as usize], positions[face[(i + 1) % face.len()] as usize]);
+        normal += Vec3::new((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+    }
+    let Some(normal) = normal.try_normalize() else {
+        return; // zero area
     };
-    Some(Mesh { name, positions, normals, indices, albedo })
+    // 2-D coordinates in the polygon's plane, counter-clockwise about `normal`.
+    let u = normal.any_orthonormal_vector();
+    let v = normal.cross(u);
+    let p2 = |i: u32| {
+        let p = positions[i as usize];
+        glam::Vec2::new(p.dot(u), p.dot(v))
+    };
+    let cross = |a: glam::Vec2, b: glam::Vec2, c: glam::Vec2| (b - a).perp_dot(c - a);
+    let mut ring: Vec<u32> = face.to_vec();
+    let mut guard = 0;
+    while ring.len() > 3 && guard < 2 * face.len() * face.len() {
+        guard += 1;
+        let n = ring.len();
+        let mut cut = None;
+        for i in 0..n {
+            let (a, b, c) = (ring[(i + n - 1) % n], ring[i], ring[(i + 1) % n]);
+            let (pa, pb, pc) = (p2(a), p2(b), p2(c));
+            if cross(pa, pb, pc) <= 0.0 {
+                continue; // reflex or straight: not an ear
+            }
+            // No other corner inside (or on) the ear; corners that coincide with the ear's
+            // own (a bridge to a hole visits them twice) do not count.
+            let blocked = ring.iter().any(|&k| {
+                let pk = p2(k);
+                if pk == pa || pk == pb || pk == pc {
+                    return false;
+                }
+                cross(pa, pb, pk) >= 0.0 && cross(pb, pc, pk) >= 0.0 && cross(pc, pa, pk) >= 0.0
+            });
+            if !blocked {
+                cut = Some(i);
+                break;
+            }
+        }
+        let Some(i) = cut else { break };
+        let n = ring.len();
+        out.push([ring[(i + n - 1) % n], ring[i], ring[(i + 1) % n]]);
+        ring.remove(i);
+    }
+    // Three corners left (or no ear: a self-intersecting outline), finished as a fan.
+    for k in 1..ring.len() - 1 {
+        out.push([ring[0], ring[k], ring[k + 1]]);
+    }
 }
 
 /// Zero area, up to rounding: the edges' cross product is tiny relative to their lengths
@@ -286,10 +522,40 @@ mod tests {
         assert_eq!(line, 4);
         assert!(message.contains("vertex index 4"), "{message}");
         assert_eq!(check_obj_text("v 0 0 0\nv nan 0 0\n").unwrap_err().0, 2);
-        assert_eq!(check_obj_text("v 0 0 0\nvn 0 0 0\n").unwrap_err().0, 2);
+        // A zero normal is repaired later, not refused; a bad number is quoted.
+        assert!(check_obj_text("v 0 0 0\nvn 0 0 0\n").is_ok());
+        let (line, message) = check_obj_text("v 0 0 0\nv 1 0x 0\n").unwrap_err();
+        assert_eq!(line, 2);
+        assert!(message.contains("`0x`"), "{message}");
         assert_eq!(check_obj_text("v 0 0 0\nf\n").unwrap_err().0, 2);
         // A forward reference is an error even though the vertex comes later.
         assert_eq!(check_obj_text("f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n").unwrap_err().0, 1);
+    }
+
+    #[test]
+    fn ear_clipping_keeps_concave_corners_and_holes_empty() {
+        // An L shape (concave at corner 3), counter-clockwise seen from +z: area 3.
+        let l = [(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0), (1.0, 2.0), (0.0, 2.0)];
+        let positions: Vec<Vec3> = l.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect();
+        let mut tris = Vec::new();
+        ear_clip(&positions, &[0, 1, 2, 3, 4, 5], &mut tris);
+        let area: f32 = tris.iter().map(|t| face_normal(&positions, t).z / 2.0).sum();
+        assert_eq!(tris.len(), 4);
+        assert!((area - 3.0).abs() < 1e-5, "{area}: every triangle inside, same winding");
+        // A 4×4 square with a 2×2 hole, bridged from (0,0) to (1,1): area 12, and no triangle
+        // covers the hole's centre.
+        let ring = [(0.0, 0.0), (4.0, 0.0), (4.0, 4.0), (0.0, 4.0), (0.0, 0.0), (1.0, 1.0), (1.0, 3.0), (3.0, 3.0), (3.0, 1.0), (1.0, 1.0)];
+        let positions: Vec<Vec3> = ring.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect();
+        let mut tris = Vec::new();
+        ear_clip(&positions, &(0..positions.len() as u32).collect::<Vec<_>>(), &mut tris);
+        let area: f32 = tris.iter().map(|t| face_normal(&positions, t).z / 2.0).sum();
+        assert!((area - 12.0).abs() < 1e-4, "area {area}");
+        let centre = glam::Vec2::new(2.5, 1.5); // inside the hole, off the diagonals
+        for t in &tris {
+            let [a, b, c] = t.map(|i| positions[i as usize].truncate());
+            let inside = (b - a).perp_dot(centre - a) > 0.0 && (c - b).perp_dot(centre - b) > 0.0 && (a - c).perp_dot(centre - c) > 0.0;
+            assert!(!inside, "triangle {t:?} covers the hole");
+        }
     }
 
     #[test]
