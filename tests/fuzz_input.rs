@@ -92,9 +92,13 @@ fn obj_line() -> impl Strategy<Value = String> {
     prop_oneof![
         4 => (num.clone(), num.clone(), num.clone()).prop_map(|(a, b, c)| format!("v {a} {b} {c}")),
         1 => (num.clone(), num.clone(), num).prop_map(|(a, b, c)| format!("vn {a} {b} {c}")),
-        4 => proptest::collection::vec(index, 1..6).prop_map(|ix| format!("f {}", ix.join(" "))),
+        4 => proptest::collection::vec(index.clone(), 1..6).prop_map(|ix| format!("f {}", ix.join(" "))),
         1 => Just("o part".to_string()),
         1 => Just("usemtl nowhere".to_string()),
+        1 => Just("vn 0 0 0".to_string()),
+        1 => Just("usemtl".to_string()),
+        1 => proptest::collection::vec(index.clone(), 1..4).prop_map(|ix| format!("l {}", ix.join(" "))),
+        1 => index.prop_map(|i| format!("p {i}")),
         1 => proptest::collection::vec(any::<u8>(), 0..10).prop_map(|b| String::from_utf8_lossy(&b).into_owned()),
     ]
 }
@@ -110,8 +114,8 @@ proptest! {
         std::fs::remove_file(&path).ok();
         match result {
             Err(_) => prop_assert!(false, "the OBJ loader panicked on:\n{}", lines.join("\n")),
-            Ok(Ok(meshes)) => {
-                for m in &meshes {
+            Ok(Ok(model)) => {
+                for m in &model.meshes {
                     prop_assert!(m.positions.iter().all(|p| p.is_finite()), "non-finite position loaded");
                     prop_assert!(m.normals.iter().all(|n| (n.length() - 1.0).abs() < 1e-3), "normal not unit");
                     prop_assert!(m.indices.iter().all(|&i| (i as usize) < m.positions.len()));
