@@ -30,10 +30,8 @@ fn main() {
 fn link_shaderc() {
     let dir = env::var("SHADERC_LIB_DIR").unwrap_or_else(|_| "/usr/lib/x86_64-linux-gnu".into());
     println!("cargo:rerun-if-env-changed=SHADERC_LIB_DIR");
-    let missing: Vec<_> = SHADERC_STATIC_LIBS
-        .iter()
-        .filter(|l| !PathBuf::from(&dir).join(format!("lib{l}.a")).exists())
-        .collect();
+    let missing: Vec<_> =
+        SHADERC_STATIC_LIBS.iter().filter(|l| !PathBuf::from(&dir).join(format!("lib{l}.a")).exists()).collect();
     if !missing.is_empty() {
         panic!(
             "static glslang/SPIRV-Tools libraries missing from {dir}: {missing:?}.\n\
@@ -68,10 +66,7 @@ fn embed_spirv() {
     table.push_str("pub static EMBEDDED_SPIRV: &[(&str, &[u8])] = &[\n");
     for n in &names {
         println!("cargo:rerun-if-changed=spirv/{n}");
-        table.push_str(&format!(
-            "    ({n:?}, include_bytes!({:?})),\n",
-            spirv.join(n).display().to_string()
-        ));
+        table.push_str(&format!("    ({n:?}, include_bytes!({:?})),\n", spirv.join(n).display().to_string()));
     }
     table.push_str("];\n");
     let out = PathBuf::from(env::var("OUT_DIR").unwrap()).join("embedded_spirv.rs");

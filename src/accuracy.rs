@@ -34,8 +34,17 @@ fn reference_key(scene: &Scene, extents: &FrameExtents, time: f32, settings: &Re
     let e = &scene.effects;
     let text = format!(
         "{:?}|{:?}|{:?}|{:?}|{}|{}|{:?}|{:?}|{}|{}|{}",
-        scene.camera, scene.light, scene.water, scene.medium, e.caustics, e.godrays,
-        extents.caustic, extents.godray, time.to_bits(), settings.caustic_photons, settings.godray_beams
+        scene.camera,
+        scene.light,
+        scene.water,
+        scene.medium,
+        e.caustics,
+        e.godrays,
+        extents.caustic,
+        extents.godray,
+        time.to_bits(),
+        settings.caustic_photons,
+        settings.godray_beams
     );
     h = fnv1a(text.as_bytes(), h);
     h = fnv1a(&settings.seed.to_le_bytes(), h);
@@ -269,10 +278,12 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
         let median = median_timings(&timings);
         let ms = |ids: &[PassId]| ids.iter().filter_map(|id| median.get(*id)).sum::<f64>();
         let effect_ms = ms(&[PassId::Shadow, PassId::Caustics, PassId::Godrays, PassId::Filter]);
-        let frame_ms = ms(&[PassId::Shadow, PassId::Scene, PassId::Caustics, PassId::Godrays, PassId::Filter, PassId::Compose]);
+        let frame_ms =
+            ms(&[PassId::Shadow, PassId::Scene, PassId::Caustics, PassId::Godrays, PassId::Filter, PassId::Compose]);
 
         let reference = cached_reference(scene, spec.time, &extents, &spec.reference, &spec.cache_dir)?;
-        let reference_next = cached_reference(scene, spec.time + spec.step, &extents, &spec.reference, &spec.cache_dir)?;
+        let reference_next =
+            cached_reference(scene, spec.time + spec.step, &extents, &spec.reference, &spec.cache_dir)?;
         let gpu_c = shown(&images.caustics_filtered, &images.caustics);
         let gpu_g = shown(&images.godrays_filtered, &images.godrays);
         let error = |gpu: Option<&HdrImage>, r: &Option<HdrImage>| -> Result<Option<BufferError>> {

@@ -6,8 +6,8 @@
 use crate::frame::FrameOptions;
 use crate::headless::SceneRenderer;
 use crate::image_io::HdrImage;
-use crate::passes::PhotonPath;
 use crate::passes::PassId;
+use crate::passes::PhotonPath;
 use crate::scene::Scene;
 use crate::vk::device::Device;
 use crate::vk::timing::PassTimings;
@@ -84,15 +84,7 @@ pub fn configs() -> Vec<BenchConfig> {
         },
         // Not in the paper: its camera stays under the water.
         BenchConfig { name: "above-800", camera_above: true, paper_fps: "-", ..base.clone() },
-        BenchConfig {
-            name: "tiny",
-            width: 96,
-            height: 96,
-            caustic_grid: 16,
-            godray_grid: 8,
-            paper_fps: "-",
-            ..base
-        },
+        BenchConfig { name: "tiny", width: 96, height: 96, caustic_grid: 16, godray_grid: 8, paper_fps: "-", ..base },
     ]
 }
 
@@ -480,9 +472,17 @@ fn fit(points: &[(f64, f64)]) -> (f64, f64) {
 
 /// Cost against the work: caustic photons, godray photons, caustic target pixels, point size
 /// and line width, each varied alone from paper-800 (or from `base`, scaled down for tests).
-pub fn scaling(device: &Arc<Device>, scene: &Scene, base: &BenchConfig, frames: u32, warmup: u32) -> Result<Vec<Series>> {
+pub fn scaling(
+    device: &Arc<Device>,
+    scene: &Scene,
+    base: &BenchConfig,
+    frames: u32,
+    warmup: u32,
+) -> Result<Vec<Series>> {
     type Vary = fn(&mut BenchConfig, f64);
-    let sweeps: [(&str, &str, Vec<f64>, Vary, fn(&BenchConfig) -> f64); 5] = [
+    type Measure = fn(&BenchConfig) -> f64;
+    // (name, pass, values, how each value changes the configuration, the work it measures)
+    let sweeps: [(&str, &str, Vec<f64>, Vary, Measure); 5] = [
         (
             "caustic photons (millions)",
             "caustics",

@@ -2,10 +2,10 @@
 
 use crate::error::Result;
 use crate::frame::{Frame, FrameOptions};
-use crate::scene::Scene;
 use crate::image_io::HdrImage;
 use crate::passes::grid_splat::{GridSplatPass, GridSplatSettings};
 use crate::passes::PassId;
+use crate::scene::Scene;
 use crate::vk::commands::FrameRing;
 use crate::vk::device::Device;
 use crate::vk::readback::Readback;
@@ -137,7 +137,12 @@ impl SceneRenderer {
         Self::with_options(device, scene, output, FrameOptions::default())
     }
 
-    pub fn with_options(device: &Arc<Device>, scene: &Scene, output: vk::Extent2D, options: FrameOptions) -> Result<Self> {
+    pub fn with_options(
+        device: &Arc<Device>,
+        scene: &Scene,
+        output: vk::Extent2D,
+        options: FrameOptions,
+    ) -> Result<Self> {
         let frame = Frame::new(device, scene, output, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, options)?;
         let ring = FrameRing::new(device)?;
         let output = Readback::new(device, &frame.compose.output.image)?;
@@ -156,7 +161,13 @@ impl SceneRenderer {
 
     /// Renders `frames` frames at times `t0 + k·dt`; with `read_back`, the last frame's
     /// targets are copied to the host and returned.
-    pub fn render(&mut self, frames: u32, t0: f32, dt: f32, read_back: bool) -> Result<(Vec<PassTimings>, Option<SceneImages>)> {
+    pub fn render(
+        &mut self,
+        frames: u32,
+        t0: f32,
+        dt: f32,
+        read_back: bool,
+    ) -> Result<(Vec<PassTimings>, Option<SceneImages>)> {
         let (out, sc, at, fx) = (&self.output, &self.scene_color, &self.albedo_transmittance, &self.effects);
         let lm = &self.light_maps;
         let frame = &mut self.frame;

@@ -351,7 +351,8 @@ fn run(cli: Cli) -> Result<i32> {
             }
             for d in &devices {
                 let missing = underlight::vk::features::missing_features(&d.capabilities);
-                let verdict = if missing.is_empty() { "suitable".to_string() } else { format!("lacks {}", missing.join(", ")) };
+                let verdict =
+                    if missing.is_empty() { "suitable".to_string() } else { format!("lacks {}", missing.join(", ")) };
                 println!("{}: {verdict}", d.describe());
             }
             Ok(0)
@@ -375,9 +376,11 @@ fn prepare_outputs<'a>(paths: impl IntoIterator<Item = &'a PathBuf>) -> Result<(
             bail!("output {} is a directory: give a file name", path.display());
         }
         let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
-        std::fs::create_dir_all(dir).with_context(|| format!("output {}: cannot create {}", path.display(), dir.display()))?;
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("output {}: cannot create {}", path.display(), dir.display()))?;
         let probe = dir.join(format!(".underlight-write-check-{}", std::process::id()));
-        std::fs::write(&probe, b"").with_context(|| format!("output {}: cannot write in {}", path.display(), dir.display()))?;
+        std::fs::write(&probe, b"")
+            .with_context(|| format!("output {}: cannot write in {}", path.display(), dir.display()))?;
         std::fs::remove_file(&probe).ok();
     }
     Ok(())
@@ -458,7 +461,8 @@ fn render_scene(cli: &Cli, args: &SceneArgs) -> Result<i32> {
     image_io::write_png(&args.out, images.width, images.height, &images.output)?;
     println!("wrote {}", args.out.display());
     if let Some(dir) = &args.hdr {
-        let mut dumps = vec![("scene_color", &images.scene_color), ("albedo_transmittance", &images.albedo_transmittance)];
+        let mut dumps =
+            vec![("scene_color", &images.scene_color), ("albedo_transmittance", &images.albedo_transmittance)];
         for (name, img) in [
             ("caustics", &images.caustics),
             ("caustics_filtered", &images.caustics_filtered),
@@ -489,13 +493,21 @@ fn reference(args: &ReferenceArgs) -> Result<i32> {
     // The device's point and line limits do not enter the reference.
     let extents = underlight::frame::target_extents(&scene, output, f32::INFINITY, f32::INFINITY);
     let started = std::time::Instant::now();
-    let images = underlight::accuracy::cached_reference(&scene, args.time, &extents, &args.reference.settings(), &args.reference.cache_dir())?;
+    let images = underlight::accuracy::cached_reference(
+        &scene,
+        args.time,
+        &extents,
+        &args.reference.settings(),
+        &args.reference.cache_dir(),
+    )?;
     println!("reference for {:?} at t = {} s in {:.1} s", scene.name, args.time, started.elapsed().as_secs_f64());
     // PNGs at the compose pass's exposure, as irradiance or radiance would show on a white
     // Lambertian receiver (E/π) or directly (godrays).
     let e_surface = underlight::frame::uniforms::surface_irradiance(&scene);
     let exposure = 2.0 * std::f32::consts::PI / e_surface;
-    for (name, image, scale) in [("caustics", &images.caustics, 1.0 / std::f32::consts::PI), ("godrays", &images.godrays, 1.0)] {
+    for (name, image, scale) in
+        [("caustics", &images.caustics, 1.0 / std::f32::consts::PI), ("godrays", &images.godrays, 1.0)]
+    {
         let Some(image) = image else { continue };
         let pfm = args.out.join(format!("{name}.pfm"));
         image_io::write_pfm(&pfm, image)?;
@@ -508,8 +520,11 @@ fn reference(args: &ReferenceArgs) -> Result<i32> {
         doubled.caustic_photons *= 2;
         doubled.godray_beams *= 2;
         doubled.seed = doubled.seed.wrapping_add(1);
-        let more = underlight::accuracy::cached_reference(&scene, args.time, &extents, &doubled, &args.reference.cache_dir())?;
-        for (name, a, b) in [("caustics", &images.caustics, &more.caustics), ("godrays", &images.godrays, &more.godrays)] {
+        let more =
+            underlight::accuracy::cached_reference(&scene, args.time, &extents, &doubled, &args.reference.cache_dir())?;
+        for (name, a, b) in
+            [("caustics", &images.caustics, &more.caustics), ("godrays", &images.godrays, &more.godrays)]
+        {
             if let (Some(a), Some(b)) = (a, b) {
                 let e = underlight::metrics::buffer_error(a, b)?;
                 println!(
@@ -617,14 +632,25 @@ fn bench(cli: &Cli, args: &BenchArgs) -> Result<i32> {
     desc.validation = false;
     let ctx = Context::new(&desc)?;
     let info = &ctx.device.info;
-    let mut report = bench::BenchReport { device: info.name.clone(), driver: format!("{} {}", info.driver_name, info.driver_info), results: Vec::new() };
+    let mut report = bench::BenchReport {
+        device: info.name.clone(),
+        driver: format!("{} {}", info.driver_name, info.driver_info),
+        results: Vec::new(),
+    };
     for c in &chosen {
         eprintln!("{}: {}×{}, {} warm-up + {} frames…", c.name, c.width, c.height, args.warmup, args.frames);
         use underlight::passes::PhotonPath;
         if args.compare_paths {
             report.results.extend(bench::compare_paths(&ctx.device, &scene, c, args.frames, args.warmup)?);
         } else {
-            report.results.push(bench::run_config(&ctx.device, &scene, c, args.frames, args.warmup, PhotonPath::GeometryShader)?);
+            report.results.push(bench::run_config(
+                &ctx.device,
+                &scene,
+                c,
+                args.frames,
+                args.warmup,
+                PhotonPath::GeometryShader,
+            )?);
         }
     }
     print!("{}", report.table());
@@ -658,7 +684,9 @@ fn soak(cli: &Cli, args: &BenchArgs, frames: u64) -> Result<i32> {
         .split_once('x')
         .and_then(|(w, h)| Some((w.trim().parse::<u32>().ok()?, h.trim().parse::<u32>().ok()?)))
         .filter(|&(w, h)| w >= 1 && h >= 1)
-        .with_context(|| format!("--soak-size {:?}: expected WxH with both at least 1, e.g. 320x200", args.soak_size))?;
+        .with_context(|| {
+            format!("--soak-size {:?}: expected WxH with both at least 1, e.g. 320x200", args.soak_size)
+        })?;
     prepare_outputs(args.json.iter())?;
     let scene = underlight::scene::load(&args.scene)?;
     let mut desc = context_desc(cli);
@@ -673,7 +701,8 @@ fn soak(cli: &Cli, args: &BenchArgs, frames: u64) -> Result<i32> {
     let report = underlight::memory::soak(&ctx.device, &scene, vk::Extent2D { width, height }, frames, &at)?;
     println!("{report}");
     if let Some(p) = &args.json {
-        std::fs::write(p, serde_json::to_string_pretty(&report)?).with_context(|| format!("writing {}", p.display()))?;
+        std::fs::write(p, serde_json::to_string_pretty(&report)?)
+            .with_context(|| format!("writing {}", p.display()))?;
         println!("wrote {}", p.display());
     }
     Ok(finish(ctx))
@@ -684,7 +713,11 @@ fn view(cli: &Cli, args: &ViewArgs) -> Result<i32> {
     use underlight::vk::swapchain::PresentMode;
     let scene = underlight::scene::load(&args.scene)?;
     if args.explain {
-        println!("passes for scene {:?} in the viewer:\n{}", scene.name, underlight::frame::FramePlan::new(&scene, true));
+        println!(
+            "passes for scene {:?} in the viewer:\n{}",
+            scene.name,
+            underlight::frame::FramePlan::new(&scene, true)
+        );
     }
     let present_mode = match args.present_mode.as_str() {
         "fifo" => PresentMode::Fifo,

@@ -109,7 +109,9 @@ impl fmt::Display for SoakReport {
         for s in &self.samples {
             writeln!(f, "  {s}")?;
         }
-        if let (Some(g), Some(r), [first, .., last]) = (self.resident_growth(), self.resident_ratio(), &self.samples[..]) {
+        if let (Some(g), Some(r), [first, .., last]) =
+            (self.resident_growth(), self.resident_ratio(), &self.samples[..])
+        {
             let frames = (last.frame - first.frame).max(1);
             write!(
                 f,
@@ -128,7 +130,13 @@ impl fmt::Display for SoakReport {
 /// Renders `scene` for `frames` frames at `extent` (time advancing 1/60 s a frame, no
 /// read-back) and samples memory after each frame number in `sample_at` (sorted; those
 /// beyond `frames` are dropped).
-pub fn soak(device: &Arc<Device>, scene: &Scene, extent: vk::Extent2D, frames: u64, sample_at: &[u64]) -> Result<SoakReport> {
+pub fn soak(
+    device: &Arc<Device>,
+    scene: &Scene,
+    extent: vk::Extent2D,
+    frames: u64,
+    sample_at: &[u64],
+) -> Result<SoakReport> {
     let mut renderer = SceneRenderer::new(device, scene, extent)?;
     let mut samples = Vec::with_capacity(sample_at.len());
     let mut done = 0u64;

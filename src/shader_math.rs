@@ -111,6 +111,10 @@ fn lattice_gradient(x: u32, y: u32, seed: u32) -> Vec2 {
     h ^= h >> 13;
     h = h.wrapping_mul(0x5bd1_e995);
     h ^= h >> 15;
+    // 0.3927 is the generator's fixed offset of the eight gradient directions, not π/8 to be
+    // rounded to it: a different value changes every water surface, and with it the cached
+    // references and the figures measured against them.
+    #[allow(clippy::approx_constant)]
     let a = (h % 8) as f32 * std::f32::consts::FRAC_PI_4 + 0.3927;
     Vec2::new(a.cos(), a.sin())
 }
@@ -233,8 +237,11 @@ pub fn water_intersect(w: &WaterParams, noise: &NoiseTexture, o: Vec3, d: Vec3, 
     if fa <= 0.0 {
         return ta;
     }
-    let feature = (if w.amplitude > 0.0 { w.wavelength } else { 1e30 })
-        .min(if w.noise_amplitude > 0.0 { w.noise_scale * WATER_NOISE_FEATURE } else { 1e30 });
+    let feature = (if w.amplitude > 0.0 { w.wavelength } else { 1e30 }).min(if w.noise_amplitude > 0.0 {
+        w.noise_scale * WATER_NOISE_FEATURE
+    } else {
+        1e30
+    });
     let horizontal = (t_bottom - t_top) * Vec2::new(d.x, d.z).length();
     let steps = (4.0 * horizontal / feature).ceil().clamp(8.0, WATER_MAX_MARCH_STEPS as f32) as u32;
     let dt = (t_bottom - t_top) / steps as f32;
@@ -336,7 +343,14 @@ pub struct Photon {
 /// GLSL `converged`: whether the iteration's estimate `hit` lies on the receiver stored at
 /// its light-map texel (`receiver`, `receiver_normal`; zero normal: none stored). `texel_size`
 /// is a map texel's world size at the hit, `light_to_hit` the light's unit direction there.
-pub fn converged(hit: Vec3, receiver: Vec3, receiver_normal: Vec3, light_to_hit: Vec3, dist: f32, texel_size: f32) -> bool {
+pub fn converged(
+    hit: Vec3,
+    receiver: Vec3,
+    receiver_normal: Vec3,
+    light_to_hit: Vec3,
+    dist: f32,
+    texel_size: f32,
+) -> bool {
     let across_allowed = (3.0 * texel_size).max(0.05 * dist);
     let off = hit - receiver;
     let len_n = receiver_normal.length();
@@ -476,7 +490,11 @@ impl PhotonCaster<'_> {
         let texel_size = 2.0 * u.light_flux[2].max(u.light_flux[3]) / u.effect1[3]
             * if point { (hit - light_pos).length() } else { 1.0 };
         let normal = self.light_normals.at(texel.0, texel.1);
-        let light_to_hit = if point { (hit - light_pos).normalize() } else { Vec3::new(u.light_dir[0], u.light_dir[1], u.light_dir[2]) };
+        let light_to_hit = if point {
+            (hit - light_pos).normalize()
+        } else {
+            Vec3::new(u.light_dir[0], u.light_dir[1], u.light_dir[2])
+        };
         let receiver = Vec3::new(r[0], r[1], r[2]);
         if !converged(hit, receiver, Vec3::new(normal[0], normal[1], normal[2]), light_to_hit, dist, texel_size) {
             return None;
@@ -490,7 +508,13 @@ impl PhotonCaster<'_> {
             let c = d.dot(Vec3::new(u.light_dir[0], u.light_dir[1], u.light_dir[2])).max(0.0);
             flux *= c * c * c;
         }
-        let photon = Photon { surface: ps, direction: rt, hit, flux: flux * fresnel_transmittance(cos_i, w.ior), travelled: dist };
+        let photon = Photon {
+            surface: ps,
+            direction: rt,
+            hit,
+            flux: flux * fresnel_transmittance(cos_i, w.ior),
+            travelled: dist,
+        };
         (hit.is_finite() && photon.flux.is_finite()).then_some(photon)
     }
 }
@@ -526,7 +550,10 @@ mod tests {
                 let fd = Vec2::new((h(e, 0.0) - h(-e, 0.0)) / (2.0 * e), (h(0.0, e) - h(0.0, -e)) / (2.0 * e));
                 let g = water_height_grad(&w, &noise, Vec2::new(x, z), t);
                 // The noise gradient is interpolated, not differentiated, so allow a little.
-                assert!((fd - Vec2::new(g.y, g.z)).length() < 0.02 * (1.0 + fd.length()), "model {model:?}: fd {fd} vs {g}");
+                assert!(
+                    (fd - Vec2::new(g.y, g.z)).length() < 0.02 * (1.0 + fd.length()),
+                    "model {model:?}: fd {fd} vs {g}"
+                );
             }
         }
     }
@@ -572,11 +599,12 @@ mod tests {
         for g in [-0.9f32, 0.0, 0.5, 0.9] {
             // ∫ p dω = 2π ∫_{-1}^{1} p(μ) dμ.
             let n = 200_000;
-            let sum: f64 = (0..n)
-                .map(|k| henyey_greenstein(-1.0 + 2.0 * (k as f32 + 0.5) / n as f32, g) as f64)
-                .sum::<f64>()
-                * 2.0 / n as f64
-                * 2.0 * std::f64::consts::PI;
+            let sum: f64 =
+                (0..n).map(|k| henyey_greenstein(-1.0 + 2.0 * (k as f32 + 0.5) / n as f32, g) as f64).sum::<f64>()
+                    * 2.0
+                    / n as f64
+                    * 2.0
+                    * std::f64::consts::PI;
             assert!((sum - 1.0).abs() < 2e-3, "g = {g}: {sum}");
         }
     }

@@ -18,15 +18,12 @@ const STAGES: &[(&str, shaderc::ShaderKind)] = &[
 
 /// The embedded SPIR-V of a shader, by source name (e.g. `grid_splat.geom`).
 pub fn embedded(name: &str) -> Option<&'static [u8]> {
-    EMBEDDED_SPIRV
-        .iter()
-        .find(|(file, _)| file.strip_suffix(".spv") == Some(name))
-        .map(|(_, bytes)| *bytes)
+    EMBEDDED_SPIRV.iter().find(|(file, _)| file.strip_suffix(".spv") == Some(name)).map(|(_, bytes)| *bytes)
 }
 
 /// SPIR-V bytes as 32-bit words (copied: `include_bytes!` gives no 4-byte alignment).
 pub fn spirv_words(bytes: &[u8]) -> Option<Vec<u32>> {
-    if bytes.len() % 4 != 0 || bytes.len() < 20 {
+    if !bytes.len().is_multiple_of(4) || bytes.len() < 20 {
         return None;
     }
     let words: Vec<u32> = bytes.chunks_exact(4).map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect();

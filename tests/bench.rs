@@ -26,7 +26,8 @@ fn bench_smoke_reports_every_pass() {
     assert_eq!(names, ["shadow", "scene", "caustics", "godrays", "filter", "compose"]);
     let mut largest: f64 = 0.0;
     for p in passes {
-        let (lo, mid, hi) = (p["p5_ms"].as_f64().unwrap(), p["median_ms"].as_f64().unwrap(), p["p95_ms"].as_f64().unwrap());
+        let (lo, mid, hi) =
+            (p["p5_ms"].as_f64().unwrap(), p["median_ms"].as_f64().unwrap(), p["p95_ms"].as_f64().unwrap());
         assert!(lo > 0.0 && lo <= mid && mid <= hi, "{p}");
         largest = largest.max(mid);
     }
@@ -45,7 +46,9 @@ fn bench_smoke_reports_every_pass() {
     assert!((last / first - 16.0).abs() < 0.5, "photon counts {first} → {last} (grid ×0.5 → ×2)");
     let rows = std::fs::read_to_string(&csv).unwrap();
     assert_eq!(rows.lines().count(), 1 + passes.len() + 1, "{rows}");
-    assert!(rows.lines().nth(1).unwrap().contains("llvmpipe") || !report["device"].as_str().unwrap().contains("llvmpipe"));
+    assert!(
+        rows.lines().nth(1).unwrap().contains("llvmpipe") || !report["device"].as_str().unwrap().contains("llvmpipe")
+    );
     std::fs::remove_dir_all(&dir).ok();
 }
 

@@ -9,6 +9,7 @@
 
 mod common;
 
+use ash::vk;
 use common::*;
 use glam::Vec3;
 use underlight::frame::uniforms::{directional_irradiance, surface_irradiance};
@@ -17,7 +18,6 @@ use underlight::image_io::HdrImage;
 use underlight::scene::{LightKind, Scene};
 use underlight::shader_math::fresnel_transmittance;
 use underlight::vk::Context;
-use ash::vk;
 
 /// Renders one frame of `scene` at `time` and checks every read-back target is finite.
 fn render(ctx: &Context, scene: &Scene, time: f32, label: &str) -> SceneImages {
@@ -100,7 +100,10 @@ fn overview_flux(ctx: &Context, scene: &Scene, time: f32, label: &str) -> f64 {
     let on_floor = floor_flux_in_view(scene, &caustics);
     let entering = flux_into_water(scene);
     eprintln!("{label}: caustic flux in view {on_floor:.3} W of {entering:.3} W entering the water");
-    assert!(on_floor <= entering, "{label}: {on_floor} W on the floor in view, more than the {entering} W entering the water");
+    assert!(
+        on_floor <= entering,
+        "{label}: {on_floor} W on the floor in view, more than the {entering} W entering the water"
+    );
     on_floor
 }
 
@@ -131,7 +134,10 @@ fn sun_from_grazing_to_straight_down() {
         let (s0, s1) = (f0 / in0, f1 / in1);
         eprintln!("share of the entering flux on the floor in view: {s0:.4} at {e0}°, {s1:.4} at {e1}°");
         assert!(s1 > 0.0, "nothing reaches the floor at {e1}°");
-        assert!((s1 / s0 - 1.0).abs() < 0.35, "share of the entering flux jumps from {s0:.3} at {e0}° to {s1:.3} at {e1}°");
+        assert!(
+            (s1 / s0 - 1.0).abs() < 0.35,
+            "share of the entering flux jumps from {s0:.3} at {e0}° to {s1:.3} at {e1}°"
+        );
     }
 }
 
@@ -163,7 +169,10 @@ fn water_from_flat_to_violent_and_late() {
     let change = |x: &HdrImage, y: &HdrImage| underlight::bench::buffer_difference(x, y).unwrap().relative_l1;
     let (late_change, early_change) = (change(&a, &b), change(&early, &early_next));
     eprintln!("frame-to-frame change: {early_change:.3} at t = 0, {late_change:.3} at t = {t}");
-    assert!(late_change < 3.0 * early_change + 0.05, "late frames flicker: {late_change} against {early_change} at t = 0");
+    assert!(
+        late_change < 3.0 * early_change + 0.05,
+        "late frames flicker: {late_change} against {early_change} at t = 0"
+    );
     assert_clean_shutdown(ctx);
 }
 
@@ -201,7 +210,11 @@ fn medium_at_its_limits() {
     // g = 0.98 to 0.99 (ratio 0.503): the godrays must follow that, not jump.
     let (g98, g99) = (godray_means[2], godray_means[3]);
     let expected = (1.0 - 0.99f64 * 0.99) / (1.0 - 0.98 * 0.98);
-    assert!((g99 / g98 / expected - 1.0).abs() < 0.3, "godrays from g = 0.98 to 0.99: ×{} (expected about ×{expected:.3})", g99 / g98);
+    assert!(
+        (g99 / g98 / expected - 1.0).abs() < 0.3,
+        "godrays from g = 0.98 to 0.99: ×{} (expected about ×{expected:.3})",
+        g99 / g98
+    );
 }
 
 #[test]

@@ -39,8 +39,8 @@ fn cpu_splat(settings: &GridSplatSettings, extent: UVec2) -> (Vec<[f32; 4]>, usi
                             }
                             if d.x < half && d.y < half {
                                 let t = &mut image[(y * extent.x + x) as usize];
-                                for c in 0..3 {
-                                    t[c] += settings.energy;
+                                for c in &mut t[..3] {
+                                    *c += settings.energy;
                                 }
                                 t[3] += 1.0;
                             }

@@ -97,7 +97,9 @@ fn flat_water_lights_the_floor_with_the_analytic_irradiance() {
     // Every pass of the method ran and was timed, except the two for the water seen from
     // above: the camera is under the water.
     for t in &timings {
-        for pass in PassId::ALL.into_iter().filter(|p| !matches!(p, PassId::GridSplat | PassId::Readback | PassId::Present)) {
+        for pass in
+            PassId::ALL.into_iter().filter(|p| !matches!(p, PassId::GridSplat | PassId::Readback | PassId::Present))
+        {
             let from_above = matches!(pass, PassId::Refraction | PassId::Reflection);
             assert_eq!(t.get(pass).is_some_and(|ms| ms > 0.0), !from_above, "{pass} in\n{t}");
         }
@@ -133,11 +135,16 @@ fn point_light_floor_irradiance(intensity: f64, height: f64, depth: f64, n: f64,
     let (mut lo, mut hi) = (0.0f64, 1.5f64);
     for _ in 0..80 {
         let mid = 0.5 * (lo + hi);
-        if land(mid) < r { lo = mid } else { hi = mid }
+        if land(mid) < r {
+            lo = mid
+        } else {
+            hi = mid
+        }
     }
     let ti = 0.5 * (lo + hi);
     let tt = (ti.sin() / n).asin();
-    let transmitted = intensity * fresnel_transmittance(ti.cos() as f32, n as f32) as f64 * (-gamma * depth / tt.cos()).exp();
+    let transmitted =
+        intensity * fresnel_transmittance(ti.cos() as f32, n as f32) as f64 * (-gamma * depth / tt.cos()).exp();
     if r < 1e-6 {
         return transmitted / (height + depth / n).powi(2);
     }
@@ -181,8 +188,12 @@ fn point_light_irradiance_follows_the_refracted_inverse_square_law() {
             let e = point_light_floor_irradiance(9.2, height, depth, 1.333, 0.13, r);
             got += caustics.at(x, y)[0] as f64;
             expected += e;
-            if x == w / 2 && y == h / 2 { edge_ratio.0 = e }
-            if x == w / 2 + 15 && y == h / 2 + 15 { edge_ratio.1 = e }
+            if x == w / 2 && y == h / 2 {
+                edge_ratio.0 = e
+            }
+            if x == w / 2 + 15 && y == h / 2 + 15 {
+                edge_ratio.1 = e
+            }
         }
     }
     eprintln!(
@@ -236,7 +247,11 @@ fn plan_skips_what_the_scene_does_not_need() {
     let mut no_caustics = scene.clone();
     no_caustics.effects.caustics = false;
     let plan = FramePlan::for_scene(&no_caustics);
-    assert_eq!(plan.passes, vec![PassId::Shadow, PassId::Scene, PassId::Godrays, PassId::Filter, PassId::Compose], "{plan}");
+    assert_eq!(
+        plan.passes,
+        vec![PassId::Shadow, PassId::Scene, PassId::Godrays, PassId::Filter, PassId::Compose],
+        "{plan}"
+    );
     let mut clear = scene.clone();
     clear.medium.scattering = 0.0;
     let plan = FramePlan::for_scene(&clear);
@@ -303,7 +318,13 @@ fn compare_photons_with_twin(model: WaterModel) {
         panic!("{} cannot record photons (no vertexPipelineStoresAndAtomics)", ctx.device.info.name);
     }
     let out = vk::Extent2D { width: scene.output[0], height: scene.output[1] };
-    let mut renderer = SceneRenderer::with_options(&ctx.device, &scene, out, FrameOptions { record_photons: true, ..Default::default() }).unwrap();
+    let mut renderer = SceneRenderer::with_options(
+        &ctx.device,
+        &scene,
+        out,
+        FrameOptions { record_photons: true, ..Default::default() },
+    )
+    .unwrap();
     let extents = renderer.frame.extents;
     let (_, images) = renderer.render(1, time, 0.0, true).unwrap();
     drop(renderer);
@@ -315,7 +336,8 @@ fn compare_photons_with_twin(model: WaterModel) {
 
     let uniforms = FrameUniforms::new(&scene, scene.bounds(), &extents, time);
     let noise = NoiseTexture::generate();
-    let caster = PhotonCaster { uniforms: &uniforms, noise: &noise, light_map: &light_map, light_normals: &light_normals };
+    let caster =
+        PhotonCaster { uniforms: &uniforms, noise: &noise, light_map: &light_map, light_normals: &light_normals };
     let (grid, sub) = (scene.effects.caustic_grid, scene.effects.caustic_subdivision);
     let per_axis = (grid * sub) as f32;
     let texel = 2.0 * uniforms.light_flux[2].max(uniforms.light_flux[3]) / uniforms.effect1[3];

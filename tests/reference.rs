@@ -149,11 +149,16 @@ fn refracted_inverse_square(intensity: f64, height: f64, depth: f64, n: f64, gam
     let (mut lo, mut hi) = (0.0f64, 1.5f64);
     for _ in 0..80 {
         let mid = 0.5 * (lo + hi);
-        if land(mid) < r { lo = mid } else { hi = mid }
+        if land(mid) < r {
+            lo = mid
+        } else {
+            hi = mid
+        }
     }
     let ti = 0.5 * (lo + hi);
     let tt = theta_t(ti);
-    let transmitted = intensity * fresnel_transmittance(ti.cos() as f32, n as f32) as f64 * (-gamma * depth / tt.cos()).exp();
+    let transmitted =
+        intensity * fresnel_transmittance(ti.cos() as f32, n as f32) as f64 * (-gamma * depth / tt.cos()).exp();
     let dr = height / ti.cos().powi(2) + depth / tt.cos().powi(2) * ti.cos() / (n * tt.cos());
     transmitted * ti.sin() / (r * dr)
 }
@@ -164,7 +169,13 @@ fn a_point_light_follows_the_refracted_inverse_square_law() {
     // to the 3 × 3 m through which light reaches the view (a time saver only).
     let mut scene = pool(0.0);
     let height = 4.0;
-    scene.light = Light { kind: LightKind::Point, direction: Vec3::NEG_Y, position: Vec3::new(0.0, height as f32, 0.0), intensity: 9.2, distance: 100.0 };
+    scene.light = Light {
+        kind: LightKind::Point,
+        direction: Vec3::NEG_Y,
+        position: Vec3::new(0.0, height as f32, 0.0),
+        intensity: 9.2,
+        distance: 100.0,
+    };
     scene.water.extent_min = Vec2::splat(-1.5);
     scene.water.extent_max = Vec2::splat(1.5);
     scene.effects.godrays = false;
@@ -186,7 +197,12 @@ fn a_point_light_follows_the_refracted_inverse_square_law() {
     // magnification (1/(H + D)² for 1/(H + D/n)²) it would read 16 % low, without the
     // attenuation 30 % high.
     let tol = 4.0 / photons.sqrt();
-    eprintln!("point light: central floor {:e} W/m², exact law {:e} (ratio {:.5}, tolerance ±{tol:.4}); {photons} photons", got / 256.0, exact / 256.0, got / exact);
+    eprintln!(
+        "point light: central floor {:e} W/m², exact law {:e} (ratio {:.5}, tolerance ±{tol:.4}); {photons} photons",
+        got / 256.0,
+        exact / 256.0,
+        got / exact
+    );
     assert!((got / exact - 1.0).abs() < tol, "point light: {got:e} vs {exact:e}");
 }
 
@@ -224,7 +240,12 @@ fn an_oblique_sun_and_a_grazing_view_keep_flat_water_exact() {
         };
         let (mut worst, mut rows) = (0.0f64, 0);
         for y in 0..img.height {
-            let corners = [(0.0, y as f64), (img.width as f64, y as f64), (0.0, y as f64 + 1.0), (img.width as f64, y as f64 + 1.0)];
+            let corners = [
+                (0.0, y as f64),
+                (img.width as f64, y as f64),
+                (0.0, y as f64 + 1.0),
+                (img.width as f64, y as f64 + 1.0),
+            ];
             if !corners.iter().all(|&(x, y)| on_floor(DVec2::new(x, y))) {
                 continue;
             }
@@ -239,7 +260,12 @@ fn an_oblique_sun_and_a_grazing_view_keep_flat_water_exact() {
             // view's far rows), with the GPU's clamp cos θ_v ≥ 0.2 up to ×2.4 there.
             let tol = 4.0 / photons.sqrt();
             worst = worst.max(err.abs() / tol);
-            assert!(err.abs() < tol, "{name}: row {y} reads {:+.2} % off {expected:e} (tolerance {:.2} %)", 100.0 * err, 100.0 * tol);
+            assert!(
+                err.abs() < tol,
+                "{name}: row {y} reads {:+.2} % off {expected:e} (tolerance {:.2} %)",
+                100.0 * err,
+                100.0 * tol
+            );
             rows += 1;
         }
         let m = mean(&channel(&img, 0));
@@ -313,13 +339,18 @@ impl WaveCaustic {
         let (mut lo, mut hi) = (xf - 0.5, xf + 0.5);
         for _ in 0..80 {
             let mid = 0.5 * (lo + hi);
-            if self.map(mid).0 < xf { lo = mid } else { hi = mid }
+            if self.map(mid).0 < xf {
+                lo = mid
+            } else {
+                hi = mid
+            }
         }
         let xs = 0.5 * (lo + hi);
         let e = 1e-6;
         let stretch = (self.map(xs + e).0 - self.map(xs - e).0) / (2.0 * e);
         let (_, path, cos_i) = self.map(xs);
-        self.e_perp * fresnel_transmittance(cos_i as f32, self.n as f32) as f64 * (-self.gamma * path).exp() / stretch.abs()
+        self.e_perp * fresnel_transmittance(cos_i as f32, self.n as f32) as f64 * (-self.gamma * path).exp()
+            / stretch.abs()
     }
 
     /// Smallest dx_f/dx_s over a period: > 0 before the first fold.
@@ -348,9 +379,13 @@ fn wave_profile(scene: &Scene, ext: &FrameExtents, img: &HdrImage, time: f32) ->
     let mid = img.height as f64 / 2.0;
     (0..img.width)
         .map(|x| {
-            let (xa, xb) = (rays.on_plane(DVec2::new(x as f64, mid), floor).x, rays.on_plane(DVec2::new(x as f64 + 1.0, mid), floor).x);
+            let (xa, xb) = (
+                rays.on_plane(DVec2::new(x as f64, mid), floor).x,
+                rays.on_plane(DVec2::new(x as f64 + 1.0, mid), floor).x,
+            );
             // Midpoint rule, 32 samples across the pixel's footprint.
-            let analytic = (0..32).map(|i| wave.irradiance(xa + (xb - xa) * (i as f64 + 0.5) / 32.0)).sum::<f64>() / 32.0;
+            let analytic =
+                (0..32).map(|i| wave.irradiance(xa + (xb - xa) * (i as f64 + 0.5) / 32.0)).sum::<f64>() / 32.0;
             let (mut sum, mut photons) = (0.0, 0.0);
             for y in 0..img.height {
                 sum += img.at(x, y)[0] as f64;
@@ -383,7 +418,12 @@ fn a_sinusoidal_wave_focuses_light_as_its_surface_to_floor_mapping_says() {
         let tol = 4.0 / n.sqrt();
         let err = got / exact - 1.0;
         worst = worst.max(err.abs() / tol);
-        assert!(err.abs() < tol, "column {x}: reference {got:e}, analytic {exact:e} ({:+.2} %, tolerance {:.2} %)", 100.0 * err, 100.0 * tol);
+        assert!(
+            err.abs() < tol,
+            "column {x}: reference {got:e}, analytic {exact:e} ({:+.2} %, tolerance {:.2} %)",
+            100.0 * err,
+            100.0 * tol
+        );
         sum_ref += got;
         sum_exact += exact;
         landed += n;
@@ -482,7 +522,13 @@ fn inscattering_matches_the_single_scattering_integral() {
         }
     }
     let exact = exact / n as f64;
-    let counts: f64 = BLOCK.1.clone().flat_map(|y| BLOCK.0.clone().map(move |x| (x, y))).map(|(x, y)| g.at(x, y)[3] as f64).sum::<f64>() / n as f64;
+    let counts: f64 = BLOCK
+        .1
+        .clone()
+        .flat_map(|y| BLOCK.0.clone().map(move |x| (x, y)))
+        .map(|(x, y)| g.at(x, y)[3] as f64)
+        .sum::<f64>()
+        / n as f64;
     eprintln!(
         "in-scattered radiance over the block {got:e} W/(m²·sr): level-ray analytic {level:e} ({:+.2} %), \
          per-pixel exact {exact:e} ({:+.2} %); {counts:.0} beams per pixel",
@@ -635,8 +681,10 @@ fn the_result_does_not_depend_on_the_thread_count() {
     scene.effects.godrays = true;
     scene.water.noise_amplitude = 0.02;
     let ext = extents([32, 32], [32, 32], [16, 16]);
-    let one = render(&scene, 2.0, &ext, &ReferenceSettings { threads: 1, ..settings(40_000, 10_000) }, &|_| {}).unwrap();
-    let two = render(&scene, 2.0, &ext, &ReferenceSettings { threads: 3, ..settings(40_000, 10_000) }, &|_| {}).unwrap();
+    let one =
+        render(&scene, 2.0, &ext, &ReferenceSettings { threads: 1, ..settings(40_000, 10_000) }, &|_| {}).unwrap();
+    let two =
+        render(&scene, 2.0, &ext, &ReferenceSettings { threads: 3, ..settings(40_000, 10_000) }, &|_| {}).unwrap();
     for (a, b) in [(one.caustics.unwrap(), two.caustics.unwrap()), (one.godrays.unwrap(), two.godrays.unwrap())] {
         let sa = a.channel_sums();
         assert!(sa[0] > 0.0 && sa[3] > 0.0, "nothing rendered");

@@ -69,7 +69,7 @@ fn crossings(m: &Mesh, origin: Vec3, dir: Vec3) -> usize {
 /// unrelated directions so that a ray grazing an edge cannot decide alone.
 fn inside(m: &Mesh, p: Vec3) -> bool {
     let dirs =
-        [Vec3::new(0.3127, 0.8459, 0.4321), Vec3::new(-0.7071, 0.1234, 0.6969), Vec3::new(0.2718, -0.5772, -0.7701)];
+        [Vec3::new(0.3127, 0.8459, 0.4321), Vec3::new(-0.7072, 0.1234, 0.6969), Vec3::new(0.2718, -0.5772, -0.7701)];
     dirs.iter().filter(|d| crossings(m, p, d.normalize()) % 2 == 1).count() >= 2
 }
 
@@ -788,10 +788,15 @@ fn mtl_diffuse_colour_becomes_the_albedo() {
     assert_eq!(meshes[2].albedo, obj::DEFAULT_ALBEDO, "a material without Kd is grey");
     // A missing MTL file is a warning naming it, and the default material; a broken one is
     // an error naming it.
-    let missing = write_obj(&dir, "missing-mtl.obj", "mtllib nothere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n");
+    let missing =
+        write_obj(&dir, "missing-mtl.obj", "mtllib nothere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n");
     let model = obj::load_obj(&missing).unwrap();
     assert_eq!(model.meshes[0].albedo, obj::DEFAULT_ALBEDO);
-    assert!(model.warnings.iter().any(|w| w.contains("nothere.mtl") && w.contains("does not exist")), "{:?}", model.warnings);
+    assert!(
+        model.warnings.iter().any(|w| w.contains("nothere.mtl") && w.contains("does not exist")),
+        "{:?}",
+        model.warnings
+    );
     std::fs::write(dir.join("bright.mtl"), "newmtl bright\nKd 1.5 0.5 0.5\n").unwrap();
     let bright =
         write_obj(&dir, "bright.obj", "mtllib bright.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl bright\nf 1 2 3\n");
@@ -843,7 +848,11 @@ fn obj_files_as_exporters_write_them() {
     let model = obj::load_obj(&write_obj(&dir, "zero-normal.obj", &text)).unwrap();
     let m = &model.meshes[0];
     assert!(m.normals.iter().all(|n| (*n - Vec3::Z).length() < 1e-6), "{:?}", m.normals);
-    assert!(model.warnings.iter().any(|w| w.contains("1 face corner(s) had a zero-length normal")), "{:?}", model.warnings);
+    assert!(
+        model.warnings.iter().any(|w| w.contains("1 face corner(s) had a zero-length normal")),
+        "{:?}",
+        model.warnings
+    );
 
     // `newmtl` with an empty name, used by an empty `usemtl`.
     std::fs::write(dir.join("empty-name.mtl"), "newmtl\nKd 0.1 0.2 0.3\n").unwrap();
@@ -865,7 +874,11 @@ fn obj_files_as_exporters_write_them() {
     let text = format!("{tri}l 1 2 3\np 1\nf 1 2 3\n");
     let model = obj::load_obj(&write_obj(&dir, "lines.obj", &text)).unwrap();
     assert_eq!(model.meshes[0].indices.len(), 3, "the polyline is not a face");
-    assert!(model.warnings.iter().any(|w| w.contains("ignored 2 polyline/point record(s)") && w.contains("lines 4, 5")), "{:?}", model.warnings);
+    assert!(
+        model.warnings.iter().any(|w| w.contains("ignored 2 polyline/point record(s)") && w.contains("lines 4, 5")),
+        "{:?}",
+        model.warnings
+    );
     write_obj(&dir, "only-lines.obj", &format!("{tri}l 1 2 3\n"));
     let scene_text = VALID.replacen("box.obj", "only-lines.obj", 1);
     assert!(scene_text != VALID, "the valid scene names box.obj");

@@ -27,7 +27,8 @@ fn every_builtin_scene_renders_cleanly() {
         assert_clean_shutdown(ctx);
         let images = images.unwrap();
         let last = timings.last().unwrap();
-        for pass in [PassId::Shadow, PassId::Scene, PassId::Caustics, PassId::Godrays, PassId::Filter, PassId::Compose] {
+        for pass in [PassId::Shadow, PassId::Scene, PassId::Caustics, PassId::Godrays, PassId::Filter, PassId::Compose]
+        {
             assert!(last.get(pass).is_some_and(|ms| ms > 0.0), "{name}: {pass} missing or untimed\n{last}");
         }
         for (what, img) in [

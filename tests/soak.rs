@@ -41,10 +41,13 @@ fn small_scene() -> underlight::scene::Scene {
 fn headless_memory_is_flat_over_300_frames() {
     let ctx = validated_context();
     let scene = small_scene();
-    let report = soak(&ctx.device, &scene, vk::Extent2D { width: 48, height: 32 }, FRAMES, &[FIRST_SAMPLE, FRAMES]).unwrap();
+    let report =
+        soak(&ctx.device, &scene, vk::Extent2D { width: 48, height: 32 }, FRAMES, &[FIRST_SAMPLE, FRAMES]).unwrap();
     println!("{report}");
     let plan = underlight::frame::FramePlan::for_scene(&scene);
-    for pass in [underlight::passes::PassId::Caustics, underlight::passes::PassId::Godrays, underlight::passes::PassId::Filter] {
+    for pass in
+        [underlight::passes::PassId::Caustics, underlight::passes::PassId::Godrays, underlight::passes::PassId::Filter]
+    {
         assert!(plan.runs(pass), "the soak must cover the {pass} pass");
     }
     let growth = report.resident_growth().expect("resident memory is readable on Linux");
@@ -64,15 +67,13 @@ fn viewer_memory_is_flat_over_300_frames_under_xvfb() {
     std::fs::create_dir_all(&dir).unwrap();
     // The tank, with the small grids of the headless soak.
     let tank_obj = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/tank.obj");
-    let text = std::fs::read_to_string(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/tank.toml"))
-        .unwrap()
-        .replace("obj = \"tank.obj\"", &format!("obj = {:?}", tank_obj.display().to_string()));
+    let text =
+        std::fs::read_to_string(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/tank.toml"))
+            .unwrap()
+            .replace("obj = \"tank.obj\"", &format!("obj = {:?}", tank_obj.display().to_string()));
     let scene = dir.join("small_tank.toml");
-    std::fs::write(
-        &scene,
-        format!("{text}\n[effects]\ncaustic_grid = 24\ngodray_grid = 12\nshadow_map_size = 64\n"),
-    )
-    .unwrap();
+    std::fs::write(&scene, format!("{text}\n[effects]\ncaustic_grid = 24\ngodray_grid = 12\nshadow_map_size = 64\n"))
+        .unwrap();
     let out = Command::new("xvfb-run")
         .args(["-a", "-s", "-screen 0 640x480x24", env!("CARGO_BIN_EXE_underlight"), "--validation", "view"])
         .args(["--scene", scene.to_str().unwrap(), "--width", "48", "--height", "32", "--frames", &FRAMES.to_string()])
@@ -93,5 +94,8 @@ fn viewer_memory_is_flat_over_300_frames_under_xvfb() {
     assert_eq!(samples.iter().map(|s| s.0).collect::<Vec<_>>(), vec![100, FRAMES], "memory lines:\n{text}");
     let growth = samples[1].1 - samples[0].1;
     // 200 frames between the samples: the same bound allows 20 KiB a frame.
-    assert!(growth < MAX_GROWTH_BYTES, "the viewer's resident memory grew {growth} bytes from frame 100 to {FRAMES}:\n{text}");
+    assert!(
+        growth < MAX_GROWTH_BYTES,
+        "the viewer's resident memory grew {growth} bytes from frame 100 to {FRAMES}:\n{text}"
+    );
 }

@@ -11,9 +11,9 @@ use underlight::frame::FrameOptions;
 use underlight::headless::{SceneImages, SceneRenderer};
 use underlight::image_io::HdrImage;
 use underlight::metrics::sample_bilinear;
-use underlight::shader_math::{refract, water_height_grad, water_intersect, water_normal_from_grad, NoiseTexture};
 use underlight::passes::PassId;
 use underlight::scene::Scene;
+use underlight::shader_math::{refract, water_height_grad, water_intersect, water_normal_from_grad, NoiseTexture};
 use underlight::vk::vk;
 
 fn tank() -> Scene {
@@ -77,7 +77,10 @@ fn check_fresnel(ctx: &underlight::vk::Context, scene: &Scene, size: [u32; 2]) -
             if measured <= 0.0 {
                 continue; // not the surface (or the surface behind a mesh above the water)
             }
-            assert!(flat_water_hit(scene, dir).is_some(), "pixel ({x}, {y}) has a Fresnel weight but its ray misses the water");
+            assert!(
+                flat_water_hit(scene, dir).is_some(),
+                "pixel ({x}, {y}) has a Fresnel weight but its ray misses the water"
+            );
             let formula = 1.0 - underlight::shader_math::fresnel_transmittance(-dir.y, ior);
             // The target is half float: 11 bits of mantissa, 5e-4 relative.
             let err = (measured - formula).abs();
@@ -146,13 +149,17 @@ fn highlight_and_its_glow_follow_their_formulas() {
             let lobe = 202.0 / (2.0 * std::f32::consts::PI) * r.dot(to_sun).max(0.0).powf(200.0);
             let expected = fresnel * e_perp * lobe;
             let err = (measured - expected).abs();
-            assert!(err <= 2e-3 * expected + 1e-3 * e_perp, "pixel ({x}, {y}): highlight {measured}, formula {expected}");
+            assert!(
+                err <= 2e-3 * expected + 1e-3 * e_perp,
+                "pixel ({x}, {y}): highlight {measured}, formula {expected}"
+            );
             worst = worst.max(err / e_perp);
             peak = peak.max(expected);
         }
     }
     // Within 1.9° of the lobe's centre somewhere (cos^200 > 1/2): the sun's reflection is in view.
-    let centre = (1.0 - underlight::shader_math::fresnel_transmittance(1.0, down.water.ior)) * e_perp * 202.0 / (2.0 * std::f32::consts::PI);
+    let centre = (1.0 - underlight::shader_math::fresnel_transmittance(1.0, down.water.ior)) * e_perp * 202.0
+        / (2.0 * std::f32::consts::PI);
     assert!(peak > 0.5 * centre, "the sun's reflection is not in view (peak {peak}, lobe centre {centre})");
     // 2. The output: compose adds the glow, the highlights' mean over the 13 texels on the
     //    diagonals of a 7×7 window (thesis §9.3), then tonemaps. Nothing else adds here: the
@@ -240,7 +247,13 @@ struct CausticSamples {
     straight: Vec<f64>,
 }
 
-fn caustic_samples(scene: &Scene, lit: &SceneImages, unlit: &SceneImages, caustics: &HdrImage, time: f32) -> CausticSamples {
+fn caustic_samples(
+    scene: &Scene,
+    lit: &SceneImages,
+    unlit: &SceneImages,
+    caustics: &HdrImage,
+    time: f32,
+) -> CausticSamples {
     let noise = NoiseTexture::generate();
     let size = [lit.width, lit.height];
     let mut s = CausticSamples { added: vec![], refracted: vec![], added_straight: vec![], straight: vec![] };
@@ -288,8 +301,14 @@ fn caustic_floor_is_seen_through_the_surface() {
     );
     // The rocks and the tessellated surface keep it below 1. A surface that read the
     // refraction view at a fixed offset, or straight through, matches `straight` at best.
-    assert!(refracted > 0.8, "the caustic pattern is not where the refracted rays meet the floor: correlation {refracted:.3}");
-    assert!(refracted > straight + 0.2, "refracted {refracted:.3} against straight {straight:.3}: the surface does not follow the refracted rays");
+    assert!(
+        refracted > 0.8,
+        "the caustic pattern is not where the refracted rays meet the floor: correlation {refracted:.3}"
+    );
+    assert!(
+        refracted > straight + 0.2,
+        "refracted {refracted:.3} against straight {straight:.3}: the surface does not follow the refracted rays"
+    );
     assert_clean_shutdown(ctx);
 }
 
@@ -320,17 +339,22 @@ fn camera_path_through_the_waterline() {
     for (k, &y) in heights.iter().enumerate() {
         scene.camera.position = Vec3::new(-1.5, y, 1.4);
         scene.camera.look_at = Vec3::new(1.0, y - 0.6, -1.0);
-        r.frame.scene_mut().camera = scene.camera.clone();
+        r.frame.scene_mut().camera = scene.camera;
         let (timings, images) = r.render(1, 1.0 + 0.1 * k as f32, 0.0, true).expect("render");
         let images = images.expect("read back");
-        for (name, image) in [("scene colour", &images.scene_color), ("albedo × transmittance", &images.albedo_transmittance)] {
+        for (name, image) in
+            [("scene colour", &images.scene_color), ("albedo × transmittance", &images.albedo_transmittance)]
+        {
             if let Some(i) = image.pixels.iter().position(|p| p.iter().any(|c| !c.is_finite())) {
                 panic!("camera at y = {y}: {name} pixel {i} is {:?}", image.pixels[i]);
             }
         }
         for (name, image) in [("caustics", &images.caustics), ("godrays", &images.godrays)] {
             let image = image.as_ref().expect("effect buffer");
-            assert!(image.pixels.iter().all(|p| p.iter().all(|c| c.is_finite())), "camera at y = {y}: {name} not finite");
+            assert!(
+                image.pixels.iter().all(|p| p.iter().all(|c| c.is_finite())),
+                "camera at y = {y}: {name} not finite"
+            );
         }
         let recorded: Vec<PassId> = timings.last().expect("frame").passes.iter().map(|p| p.0).collect();
         let above = y + 2.0 * scene.camera.z_near >= trough;

@@ -112,9 +112,14 @@ fn leaked_allocation_is_reported() {
 #[test]
 fn resource_alive_at_shutdown_is_reported() {
     let ctx = validated_context();
-    let buffer =
-        Buffer::new(&ctx.device, "outlives its context", 256, vk::BufferUsageFlags::TRANSFER_DST, MemoryLocation::GpuOnly)
-            .unwrap();
+    let buffer = Buffer::new(
+        &ctx.device,
+        "outlives its context",
+        256,
+        vk::BufferUsageFlags::TRANSFER_DST,
+        MemoryLocation::GpuOnly,
+    )
+    .unwrap();
     let report = ctx.shutdown();
     assert_eq!(report.device_still_referenced, 1, "{report}");
     // The buffer still frees itself, and the device goes with it.

@@ -89,7 +89,17 @@ fn viewer_sessions_under_xvfb() {
     let text = port.replace("obj = \"port.obj\"", &format!("obj = {:?}", obj.to_str().unwrap()))
         + "\n[effects]\nline_width = 100000.0\n";
     std::fs::write(&wide, text).unwrap();
-    let out = under_xvfb(&["view", "--scene", wide.to_str().unwrap(), "--width", "64", "--height", "64", "--script", "frames:1,resize:80x64,frames:1"]);
+    let out = under_xvfb(&[
+        "view",
+        "--scene",
+        wide.to_str().unwrap(),
+        "--width",
+        "64",
+        "--height",
+        "64",
+        "--script",
+        "frames:1,resize:80x64,frames:1",
+    ]);
     let err = String::from_utf8_lossy(&out.stderr);
     let warnings = err.lines().filter(|l| l.starts_with("warning:") && l.contains("effects.line_width")).count();
     assert_eq!(warnings, 1, "the clamp is reported once, not on every resize:\n{err}");

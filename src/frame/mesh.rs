@@ -41,8 +41,18 @@ impl GpuMeshes {
             }
             indices.extend(m.indices.iter().map(|i| base + i));
         }
-        let vb = buffer_with_data(device, "scene vertices", bytemuck::cast_slice(&vertices), vk::BufferUsageFlags::VERTEX_BUFFER)?;
-        let ib = buffer_with_data(device, "scene indices", bytemuck::cast_slice(&indices), vk::BufferUsageFlags::INDEX_BUFFER)?;
+        let vb = buffer_with_data(
+            device,
+            "scene vertices",
+            bytemuck::cast_slice(&vertices),
+            vk::BufferUsageFlags::VERTEX_BUFFER,
+        )?;
+        let ib = buffer_with_data(
+            device,
+            "scene indices",
+            bytemuck::cast_slice(&indices),
+            vk::BufferUsageFlags::INDEX_BUFFER,
+        )?;
         Ok(Self { vertices: vb, indices: ib, index_count: indices.len() as u32 })
     }
 

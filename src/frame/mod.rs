@@ -18,9 +18,9 @@ use crate::passes::godrays::GodraysPass;
 use crate::passes::reflection::ReflectionPass;
 use crate::passes::refraction::RefractionPass;
 use crate::passes::scene::{Background, ScenePass, SurfaceInputs};
-use crate::passes::{photon_set_index, PHOTON_SETS};
 use crate::passes::shadow::ShadowPass;
 use crate::passes::PassId;
+use crate::passes::{photon_set_index, PHOTON_SETS};
 use crate::scene::Scene;
 use crate::shader_math::NoiseTexture;
 use crate::vk::buffer::Buffer;
@@ -144,7 +144,12 @@ impl FramePlan {
         } else {
             format!(
                 "low-pass over the {} buffer(s)",
-                [(caustics, "caustic"), (godrays, "godray")].iter().filter(|e| e.0).map(|e| e.1).collect::<Vec<_>>().join(" and ")
+                [(caustics, "caustic"), (godrays, "godray")]
+                    .iter()
+                    .filter(|e| e.0)
+                    .map(|e| e.1)
+                    .collect::<Vec<_>>()
+                    .join(" and ")
             )
         };
         let shadow = caustics || godrays;
@@ -173,8 +178,18 @@ impl FramePlan {
                     "no photon pass needs the light's view".to_string()
                 },
             ),
-            (PassId::Refraction, from_above, format!("{surface_why}; the underwater part, with its caustics and godrays, for the surface to refract")),
-            (PassId::Reflection, from_above, format!("{surface_why}; the part above the water, mirrored, for the surface to reflect")),
+            (
+                PassId::Refraction,
+                from_above,
+                format!(
+                    "{surface_why}; the underwater part, with its caustics and godrays, for the surface to refract"
+                ),
+            ),
+            (
+                PassId::Reflection,
+                from_above,
+                format!("{surface_why}; the part above the water, mirrored, for the surface to reflect"),
+            ),
             (PassId::Scene, true, "camera colour and depth are always needed".to_string()),
             (PassId::Caustics, caustics, caustics_why),
             (PassId::Godrays, godrays, godrays_why),
@@ -209,7 +224,8 @@ pub fn frame_extents(scene: &Scene, output: vk::Extent2D, device: &Device) -> Fr
 /// `frame_extents` with the device's largest point and line given: the CPU reference sizes
 /// its buffers with this, without a device.
 pub fn target_extents(scene: &Scene, output: [u32; 2], max_point_size: f32, max_line_width: f32) -> FrameExtents {
-    let scaled = |s: f32| [((output[0] as f32 * s).round() as u32).max(1), ((output[1] as f32 * s).round() as u32).max(1)];
+    let scaled =
+        |s: f32| [((output[0] as f32 * s).round() as u32).max(1), ((output[1] as f32 * s).round() as u32).max(1)];
     FrameExtents {
         output,
         caustic: scaled(scene.effects.caustic_target_scale),
@@ -240,7 +256,12 @@ pub fn device_clamps(scene: &Scene, plan: &FramePlan, device: &Device) -> Vec<St
         if e.line_width > hi {
             notes.push(format!("effects.line_width = {} px exceeds the device's widest line ({hi} px): godray lines are drawn {hi} px wide", e.line_width));
         } else if e.line_width < lo.max(1.0) {
-            notes.push(format!("effects.line_width = {} px is below {} px: godray lines are drawn {} px wide", e.line_width, lo.max(1.0), lo.max(1.0)));
+            notes.push(format!(
+                "effects.line_width = {} px is below {} px: godray lines are drawn {} px wide",
+                e.line_width,
+                lo.max(1.0),
+                lo.max(1.0)
+            ));
         }
     }
     notes
@@ -340,7 +361,14 @@ impl Frame {
         let caustics = if plan.runs(PassId::Caustics) {
             let e = &scene.effects;
             let ext = vk::Extent2D { width: extents.caustic[0], height: extents.caustic[1] };
-            Some(CausticsPass::new(device, ext, e.caustic_grid, e.caustic_subdivision, options.record_photons, options.photon_path)?)
+            Some(CausticsPass::new(
+                device,
+                ext,
+                e.caustic_grid,
+                e.caustic_subdivision,
+                options.record_photons,
+                options.photon_path,
+            )?)
         } else {
             None
         };
@@ -353,16 +381,31 @@ impl Frame {
         };
         let filtering = plan.runs(PassId::Filter);
         let caustic_filter = match (&caustics, filtering) {
-            (Some(c), true) => Some(FilterPass::new(device, "caustics filter", &c.target.image, CAUSTIC_FILTER_RADIUS_PX)?),
+            (Some(c), true) => {
+                Some(FilterPass::new(device, "caustics filter", &c.target.image, CAUSTIC_FILTER_RADIUS_PX)?)
+            }
             _ => None,
         };
         let godray_filter = match (&godrays, filtering) {
-            (Some(g), true) => Some(FilterPass::new(device, "godrays filter", &g.target.image, GODRAY_FILTER_RADIUS_PX)?),
+            (Some(g), true) => {
+                Some(FilterPass::new(device, "godrays filter", &g.target.image, GODRAY_FILTER_RADIUS_PX)?)
+            }
             _ => None,
         };
-        let surface = SurfaceInputs { through_surface: refraction.is_some(), caustics: caustics.is_some(), godrays: godrays.is_some() };
+        let surface = SurfaceInputs {
+            through_surface: refraction.is_some(),
+            caustics: caustics.is_some(),
+            godrays: godrays.is_some(),
+        };
         let scene_pass = ScenePass::new(device, output, surface)?;
-        let compose = ComposePass::new(device, output, caustics.is_some(), godrays.is_some(), surface.through_surface, output_layout)?;
+        let compose = ComposePass::new(
+            device,
+            output,
+            caustics.is_some(),
+            godrays.is_some(),
+            surface.through_surface,
+            output_layout,
+        )?;
         // With the surface seen from above possible, the scene pass binds what the surface
         // reads in every frame, also those that record it later (camera under the water) or
         // never wrote it yet: all must be in the sampled layout from the start.
@@ -377,7 +420,11 @@ impl Frame {
         // Each pass declared the bindings its shaders read; fill them from what this frame
         // made. A binding whose producer is not in the plan would be a bug in the plan.
         let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
-        let tex = |image: &Image, sampler: &Sampler| Resource::Texture { view: image.view, sampler: sampler.raw, layout: read };
+        let tex = |image: &Image, sampler: &Sampler| Resource::Texture {
+            view: image.view,
+            sampler: sampler.raw,
+            layout: read,
+        };
         let refraction_image = |image: fn(&RefractionPass) -> &Image| {
             image(refraction.as_ref().expect("plan: the surface reads the refraction pass the frame lacks"))
         };
@@ -388,10 +435,16 @@ impl Frame {
             match binding {
                 bindings::UNIFORMS => Resource::Storage { buffer: uniforms[frame].raw, range: uniforms[frame].size },
                 bindings::NOISE => tex(&noise, &nearest),
-                bindings::LIGHT_POSITION => tex(&shadow.as_ref().expect("plan: photon passes need the shadow pass").position, &nearest),
-                bindings::LIGHT_NORMAL => tex(&shadow.as_ref().expect("plan: photon passes need the shadow pass").normal, &nearest),
+                bindings::LIGHT_POSITION => {
+                    tex(&shadow.as_ref().expect("plan: photon passes need the shadow pass").position, &nearest)
+                }
+                bindings::LIGHT_NORMAL => {
+                    tex(&shadow.as_ref().expect("plan: photon passes need the shadow pass").normal, &nearest)
+                }
                 // Photon passes test against the view the camera sees them in (photon_set_index).
-                bindings::SCENE_DEPTH if through_surface && refraction.is_some() => tex(refraction_image(|r| &r.depth), &nearest),
+                bindings::SCENE_DEPTH if through_surface && refraction.is_some() => {
+                    tex(refraction_image(|r| &r.depth), &nearest)
+                }
                 bindings::SCENE_DEPTH => tex(&scene_pass.depth, &nearest),
                 bindings::REFRACTION_COLOR => tex(refraction_image(|r| &r.color), &linear),
                 bindings::REFRACTION_ALBEDO => tex(refraction_image(|r| &r.albedo), &linear),
@@ -500,14 +553,16 @@ impl Frame {
         let mut u = FrameUniforms::new(&self.scene, self.bounds, &self.extents, time);
         u.water4[3] = if through_surface { 1.0 } else { 0.0 };
         let c = self.scene.camera.position;
-        let hg = crate::shader_math::water_height_grad(&self.scene.water, &self.noise_twin, glam::Vec2::new(c.x, c.z), time);
+        let hg =
+            crate::shader_math::water_height_grad(&self.scene.water, &self.noise_twin, glam::Vec2::new(c.x, c.z), time);
         u.camera_water = [hg.x, hg.y, hg.z, 0.0];
         if let Some(bytes) = self.uniforms[slot.index].mapped_mut() {
             bytes.copy_from_slice(bytemuck::bytes_of(&u));
         }
         // Every ray starts under the water when the camera cannot see the surface from above.
         let background = if !camera_sees_surface_from_above(&self.scene) {
-            let fog = crate::shader_math::water_fog_radiance(u.water3[2], glam::Vec3::from_slice(&u.gamma[..3]), u.gamma[3]);
+            let fog =
+                crate::shader_math::water_fog_radiance(u.water3[2], glam::Vec3::from_slice(&u.gamma[..3]), u.gamma[3]);
             Background::Uniform(fog.to_array())
         } else {
             Background::Draw

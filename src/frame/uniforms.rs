@@ -287,8 +287,18 @@ impl FrameUniforms {
             gamma: [m.gamma.x, m.gamma.y, m.gamma.z, m.scattering],
             effect0: [e.point_size_min, e.point_size_max, e.line_width, m.hg_g],
             effect1: [caustic_photons, godray_photons, e.iterations as f32, extents.light_map as f32],
-            effect2: [extents.max_point_size, extents.max_line_width, extents.caustic[0] as f32, extents.caustic[1] as f32],
-            effect3: [extents.godray[0] as f32, extents.godray[1] as f32, extents.output[0] as f32, extents.output[1] as f32],
+            effect2: [
+                extents.max_point_size,
+                extents.max_line_width,
+                extents.caustic[0] as f32,
+                extents.caustic[1] as f32,
+            ],
+            effect3: [
+                extents.godray[0] as f32,
+                extents.godray[1] as f32,
+                extents.output[0] as f32,
+                extents.output[1] as f32,
+            ],
             water4: {
                 let p = crate::shader_math::water_phase(w, time);
                 [p.x, p.y, p.z, 0.0]

@@ -4,10 +4,10 @@
 //! an RGBA16F target a fraction of the output's size (units: docs/units.md).
 
 use crate::error::{Error, Result};
-use crate::shader_math::MAX_SUBDIVISION;
 use crate::frame::bindings as b;
 use crate::passes::photon_accumulation::{dispatch_per_photon, require_float_atomics, AtomicAccumulation};
 use crate::passes::{require_accumulation_format, PhotonPath, ACCUMULATION_FORMAT, PHOTON_SETS};
+use crate::shader_math::MAX_SUBDIVISION;
 use crate::vk::buffer::Buffer;
 use crate::vk::descriptors::{Binding, DescriptorSets, Resource};
 use crate::vk::device::Device;
@@ -108,7 +108,13 @@ impl CausticsPass {
             None
         };
         require_accumulation_format(device, "R32G32B32A32_SFLOAT with blending and linear filtering (caustic target)")?;
-        let target = ColorTarget::new(device, "caustics", extent, ACCUMULATION_FORMAT, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)?;
+        let target = ColorTarget::new(
+            device,
+            "caustics",
+            extent,
+            ACCUMULATION_FORMAT,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        )?;
         let specialization = [(0, subdivision)];
         let set_layouts = [sets.layout];
         let compute = |name: &str, shader: &str| {
@@ -128,16 +134,14 @@ impl CausticsPass {
             (1, vk::Format::R32G32B32A32_SFLOAT, 16),
             (2, vk::Format::R32G32B32A32_SFLOAT, 32),
         ];
-        let points = |vertex: &'static str, geometry: Option<&'static str>| {
-            GraphicsPipelineDesc {
-                geometry,
-                topology: vk::PrimitiveTopology::POINT_LIST,
-                blend: Blend::Additive,
-                specialization: &specialization,
-                push_constant_bytes: 4,
-                set_layouts: &set_layouts,
-                ..GraphicsPipelineDesc::new("caustics", vertex, "caustics.frag", target.render_pass.raw)
-            }
+        let points = |vertex: &'static str, geometry: Option<&'static str>| GraphicsPipelineDesc {
+            geometry,
+            topology: vk::PrimitiveTopology::POINT_LIST,
+            blend: Blend::Additive,
+            specialization: &specialization,
+            push_constant_bytes: 4,
+            set_layouts: &set_layouts,
+            ..GraphicsPipelineDesc::new("caustics", vertex, "caustics.frag", target.render_pass.raw)
         };
         let (pipeline, accumulation, splat_floor) = match path {
             PhotonPath::GeometryShader => {
@@ -223,7 +227,9 @@ impl CausticsPass {
                     .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
                     .dst_stage_mask(vk::PipelineStageFlags2::VERTEX_ATTRIBUTE_INPUT)
                     .dst_access_mask(vk::AccessFlags2::VERTEX_ATTRIBUTE_READ)];
-                unsafe { dev.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&to_vertices)) };
+                unsafe {
+                    dev.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&to_vertices))
+                };
             }
         }
         self.target.render_pass.begin(cmd);

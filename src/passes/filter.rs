@@ -31,7 +31,8 @@ pub struct FilterPass {
 impl FilterPass {
     pub fn new(device: &Arc<Device>, name: &str, input: &Image, radius_px: f32) -> Result<Self> {
         let sets = DescriptorSets::new(device, name, BINDINGS, FRAMES_IN_FLIGHT as u32)?;
-        let output = ColorTarget::new(device, name, input.extent, input.format, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)?;
+        let output =
+            ColorTarget::new(device, name, input.extent, input.format, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)?;
         let pipeline = Pipeline::graphics(
             device,
             &GraphicsPipelineDesc {

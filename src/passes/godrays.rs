@@ -24,7 +24,6 @@ pub const BINDINGS: &[(u32, Binding)] = &[
     (b::SCENE_DEPTH, Binding::Texture),
 ];
 
-
 pub struct GodraysPass {
     /// The geometry shader, vertex-only or compute path (the splat floor is a caustics-only
     /// measurement: godrays use the geometry shader there).
@@ -68,7 +67,13 @@ impl GodraysPass {
             bindings.push((b::PHOTON_ACCUMULATION, Binding::Storage));
         }
         let sets = DescriptorSets::new(device, "godrays", &bindings, PHOTON_SETS as u32)?;
-        let target = ColorTarget::new(device, "godrays", extent, ACCUMULATION_FORMAT, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)?;
+        let target = ColorTarget::new(
+            device,
+            "godrays",
+            extent,
+            ACCUMULATION_FORMAT,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        )?;
         let specialization = [(0, subdivision)];
         let set_layouts = [sets.layout];
         let lines = |vertex, geometry, topology| GraphicsPipelineDesc {
@@ -82,9 +87,10 @@ impl GodraysPass {
             ..GraphicsPipelineDesc::new("godrays", vertex, "godrays.frag", target.render_pass.raw)
         };
         let (pipeline, accumulation) = match path {
-            PhotonPath::VertexOnly => {
-                (Pipeline::graphics(device, &lines("godrays_vertex.vert", None, vk::PrimitiveTopology::LINE_LIST))?, None)
-            }
+            PhotonPath::VertexOnly => (
+                Pipeline::graphics(device, &lines("godrays_vertex.vert", None, vk::PrimitiveTopology::LINE_LIST))?,
+                None,
+            ),
             PhotonPath::Compute => {
                 let accumulation = AtomicAccumulation::new(device, "godrays", &target)?;
                 for frame in 0..PHOTON_SETS {

@@ -46,7 +46,10 @@ impl GridSplatSettings {
     pub fn validate(&self, device: &Device) -> Result<()> {
         let limits = device.limits();
         if self.grid == 0 || self.grid > 8192 {
-            return Err(Error::InvalidParameter { name: "grid", message: format!("{} is outside 1..=8192", self.grid) });
+            return Err(Error::InvalidParameter {
+                name: "grid",
+                message: format!("{} is outside 1..=8192", self.grid),
+            });
         }
         // Each photon emits gl_Position (4), gl_PointSize (1) and the energy (4).
         const COMPONENTS_PER_PHOTON: u32 = 9;

@@ -29,8 +29,9 @@ pub const ACCUMULATION_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 /// Photon targets are blended into and sampled bilinearly by compose: the device must
 /// support both on `ACCUMULATION_FORMAT` (`target` names the pass's target in the error).
 pub fn require_accumulation_format(device: &Arc<Device>, target: &'static str) -> Result<()> {
-    let features = unsafe { device.instance.raw.get_physical_device_format_properties(device.info.handle, ACCUMULATION_FORMAT) }
-        .optimal_tiling_features;
+    let features =
+        unsafe { device.instance.raw.get_physical_device_format_properties(device.info.handle, ACCUMULATION_FORMAT) }
+            .optimal_tiling_features;
     let needed = vk::FormatFeatureFlags::COLOR_ATTACHMENT_BLEND | vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR;
     if !features.contains(needed) {
         return Err(Error::MissingFeatures { device: device.info.name.clone(), missing: vec![target] });

@@ -58,12 +58,8 @@ impl AtomicAccumulation {
         )?;
         // One set: the buffer is shared by the frames in flight, like the target it fills
         // (the barriers in `record_clear` order one frame's use after the previous one's).
-        let resolve_sets = DescriptorSets::new(
-            device,
-            &format!("{name} resolve"),
-            &[(b::PHOTON_ACCUMULATION, Binding::Storage)],
-            1,
-        )?;
+        let resolve_sets =
+            DescriptorSets::new(device, &format!("{name} resolve"), &[(b::PHOTON_ACCUMULATION, Binding::Storage)], 1)?;
         resolve_sets.write_at(0, vec![(b::PHOTON_ACCUMULATION as usize, Self::resource_of(&buffer))]);
         let resolve = Pipeline::graphics(
             device,

@@ -40,13 +40,24 @@ impl ReflectionPass {
         let extent = reflection_extent(output);
         let sets = DescriptorSets::new(device, "reflection", BINDINGS, FRAMES_IN_FLIGHT as u32)?;
         // TRANSFER_DST: the frame clears it before its first pass (upload::clear_to_sampled).
-        let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST;
+        let usage =
+            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST;
         let color = Image::new(device, "reflection colour", extent, COLOR_FORMAT, usage)?;
-        let depth = Image::new(device, "reflection depth", extent, vk::Format::D32_SFLOAT, vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT)?;
+        let depth = Image::new(
+            device,
+            "reflection depth",
+            extent,
+            vk::Format::D32_SFLOAT,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+        )?;
         let render_pass = RenderPass::new(
             device,
             "reflection",
-            &[Attachment { image: &color, load: Load::Clear([0.0; 4]), final_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL }],
+            &[Attachment {
+                image: &color,
+                load: Load::Clear([0.0; 4]),
+                final_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            }],
             Some(&Attachment {
                 image: &depth,
                 load: Load::Clear([1.0; 4]),

@@ -52,7 +52,12 @@ pub fn mesh_pipeline(
             specialization: &[(0, view as u32)],
             vertex_stride: std::mem::size_of::<MeshVertex>() as u32,
             vertex_attributes: &MESH_ATTRIBUTES,
-            ..GraphicsPipelineDesc::new(name, "mesh.vert", if attachments == 2 { "scene.frag" } else { "reflection.frag" }, render_pass)
+            ..GraphicsPipelineDesc::new(
+                name,
+                "mesh.vert",
+                if attachments == 2 { "scene.frag" } else { "reflection.frag" },
+                render_pass,
+            )
         },
     )
 }
@@ -88,7 +93,9 @@ impl CameraTargets {
             &format!("{pass} depth"),
             extent,
             vk::Format::D32_SFLOAT,
-            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
+                | vk::ImageUsageFlags::SAMPLED
+                | vk::ImageUsageFlags::TRANSFER_DST,
         )?;
         let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
         let render_pass = RenderPass::new(

@@ -5,8 +5,8 @@
 //! mask the paper makes optional is derived from the position map instead (see photon.glsl).
 
 use crate::error::Result;
-use crate::frame::mesh::{GpuMeshes, MESH_ATTRIBUTES};
 use crate::frame::bindings as b;
+use crate::frame::mesh::{GpuMeshes, MESH_ATTRIBUTES};
 use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
@@ -35,10 +35,17 @@ impl ShadowPass {
     pub fn new(device: &Arc<Device>, size: u32) -> Result<Self> {
         let sets = DescriptorSets::new(device, "shadow", BINDINGS, FRAMES_IN_FLIGHT as u32)?;
         let extent = vk::Extent2D { width: size, height: size };
-        let sampled = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC;
+        let sampled =
+            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC;
         let position = Image::new(device, "light position map", extent, vk::Format::R32G32B32A32_SFLOAT, sampled)?;
         let normal = Image::new(device, "light normal map", extent, vk::Format::R16G16B16A16_SFLOAT, sampled)?;
-        let depth = Image::new(device, "light depth", extent, vk::Format::D32_SFLOAT, vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT)?;
+        let depth = Image::new(
+            device,
+            "light depth",
+            extent,
+            vk::Format::D32_SFLOAT,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+        )?;
         let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
         let render_pass = RenderPass::new(
             device,

@@ -171,7 +171,14 @@ impl Bvh {
 
     /// Visits the triangles of the leaves the ray meets, nearer child first. `test` returns
     /// `Some(true)` to stop, and may shrink `t_max`.
-    fn traverse(&self, o: DVec3, d: DVec3, t_min: f64, t_max: &mut f64, mut test: impl FnMut(u32, f64, &mut f64) -> Option<bool>) {
+    fn traverse(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        t_min: f64,
+        t_max: &mut f64,
+        mut test: impl FnMut(u32, f64, &mut f64) -> Option<bool>,
+    ) {
         if self.triangles.is_empty() {
             return;
         }
@@ -240,7 +247,13 @@ fn build_node(nodes: &mut Vec<Node>, index: usize, items: &mut [Item], start: us
         return;
     }
     let extent = centroids.hi - centroids.lo;
-    let axis = if extent.x >= extent.y && extent.x >= extent.z { 0 } else if extent.y >= extent.z { 1 } else { 2 };
+    let axis = if extent.x >= extent.y && extent.x >= extent.z {
+        0
+    } else if extent.y >= extent.z {
+        1
+    } else {
+        2
+    };
     if !(extent[axis] > 0.0) {
         nodes[index] = leaf;
         return;

@@ -69,9 +69,8 @@ impl PixelCamera {
     pub fn pixel_solid_angle(&self, x: u32, y: u32, size: [u32; 2]) -> f64 {
         let corner = |dx: u32, dy: u32| self.ray(Self::ndc(DVec2::new((x + dx) as f64, (y + dy) as f64), size));
         let (a, b, c, d) = (corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1));
-        let tri = |a: DVec3, b: DVec3, c: DVec3| {
-            2.0 * a.dot(b.cross(c)).abs().atan2(1.0 + a.dot(b) + b.dot(c) + c.dot(a))
-        };
+        let tri =
+            |a: DVec3, b: DVec3, c: DVec3| 2.0 * a.dot(b.cross(c)).abs().atan2(1.0 + a.dot(b) + b.dot(c) + c.dot(a));
         tri(a, b, c) + tri(a, c, d)
     }
 

@@ -29,10 +29,17 @@ const STREAM: u64 = 0xc0ffee;
 /// Photons per work item handed to a thread.
 const PHOTONS_PER_ITEM: f64 = 8192.0;
 
-pub(super) fn render(ctx: &Context, sampler: &LightSampler, settings: &ReferenceSettings, threads: usize, progress: &Progress) -> HdrImage {
+pub(super) fn render(
+    ctx: &Context,
+    sampler: &LightSampler,
+    settings: &ReferenceSettings,
+    threads: usize,
+    progress: &Progress,
+) -> HdrImage {
     let size = ctx.extents.caustic;
     let pixels = (size[0] * size[1]) as usize;
-    let omega: Vec<f64> = (0..pixels as u32).map(|i| ctx.camera.pixel_solid_angle(i % size[0], i / size[0], size)).collect();
+    let omega: Vec<f64> =
+        (0..pixels as u32).map(|i| ctx.camera.pixel_solid_angle(i % size[0], i / size[0], size)).collect();
     let strata = Strata::new(sampler.rect_lo, sampler.rect_hi, settings.caustic_photons);
     let buffers = trace_strata(
         ctx,

@@ -62,7 +62,13 @@ struct PixelRay {
     spans: Vec<Span>,
 }
 
-pub(super) fn render(ctx: &Context, sampler: &LightSampler, settings: &ReferenceSettings, threads: usize, progress: &Progress) -> HdrImage {
+pub(super) fn render(
+    ctx: &Context,
+    sampler: &LightSampler,
+    settings: &ReferenceSettings,
+    threads: usize,
+    progress: &Progress,
+) -> HdrImage {
     let size = ctx.extents.godray;
     let pixels = (size[0] * size[1]) as usize;
     let rays: Vec<PixelRay> = (0..pixels as u32).map(|i| pixel_ray(ctx, i % size[0], i / size[0])).collect();
@@ -211,7 +217,8 @@ impl<'a> Splatter<'a> {
     fn piece(&self, o: DVec3, d: DVec3, ta: f64, tb: f64, level: u32, visit: &mut impl FnMut(u32, u32)) {
         let cam = &self.ctx.camera;
         let size = self.ctx.extents.godray;
-        let to_pixels = |c: glam::DVec4| (DVec2::new(c.x, c.y) / c.w + 1.0) * 0.5 * DVec2::new(size[0] as f64, size[1] as f64);
+        let to_pixels =
+            |c: glam::DVec4| (DVec2::new(c.x, c.y) / c.w + 1.0) * 0.5 * DVec2::new(size[0] as f64, size[1] as f64);
         let (pa, pb) = (o + ta * d, o + tb * d);
         let (ca, cb) = (cam.clip(pa), cam.clip(pb));
         let long_on_screen = (to_pixels(cb) - to_pixels(ca)).length() > 4.0;

@@ -95,7 +95,10 @@ impl LightSampler {
     /// error for a point light among the waves, which this parameterisation cannot sample.
     pub fn new(scene: &Scene, level: f64, bound: f64) -> crate::error::Result<Option<Self>> {
         let w = &scene.water;
-        let (lo, hi) = (DVec2::new(w.extent_min.x as f64, w.extent_min.y as f64), DVec2::new(w.extent_max.x as f64, w.extent_max.y as f64));
+        let (lo, hi) = (
+            DVec2::new(w.extent_min.x as f64, w.extent_min.y as f64),
+            DVec2::new(w.extent_max.x as f64, w.extent_max.y as f64),
+        );
         // A hair above the crests, so the plane is above the surface despite f32 heights.
         let plane_y = level + bound + 1e-4;
         let trough = level - bound;
@@ -128,10 +131,19 @@ impl LightSampler {
                 // by at least (p_y − plane_y)/(p_y − trough).
                 let foot = DVec2::new(p.x, p.z);
                 let f = (p.y - plane_y) / (p.y - trough);
-                (LightSource::Point { position: p, intensity: l.intensity as f64 }, foot + (lo - foot) * f, foot + (hi - foot) * f)
+                (
+                    LightSource::Point { position: p, intensity: l.intensity as f64 },
+                    foot + (lo - foot) * f,
+                    foot + (hi - foot) * f,
+                )
             }
         };
-        Ok(Some(Self { source, plane_y, rect_lo: lo.min(shifted_lo).min(shifted_hi), rect_hi: hi.max(shifted_hi).max(shifted_lo) }))
+        Ok(Some(Self {
+            source,
+            plane_y,
+            rect_lo: lo.min(shifted_lo).min(shifted_hi),
+            rect_hi: hi.max(shifted_hi).max(shifted_lo),
+        }))
     }
 
     /// The photon ray through `xz` on the sampling plane: origin, unit direction, and the
@@ -223,7 +235,13 @@ mod tests {
         Scene {
             name: "waves".into(),
             output: [64, 64],
-            camera: Camera { position: Vec3::new(0.0, -0.5, 0.0), look_at: Vec3::new(0.0, -2.0, 0.1), fov_y_degrees: 60.0, z_near: 0.05, z_far: 10.0 },
+            camera: Camera {
+                position: Vec3::new(0.0, -0.5, 0.0),
+                look_at: Vec3::new(0.0, -2.0, 0.1),
+                fov_y_degrees: 60.0,
+                z_near: 0.05,
+                z_far: 10.0,
+            },
             light,
             water: Water {
                 model: WaterModel::CircularCosine,
@@ -250,10 +268,28 @@ mod tests {
     fn the_sampling_rectangle_covers_the_whole_water() {
         let noise = NoiseTexture::generate();
         let lights = [
-            Light { kind: LightKind::Directional, direction: Vec3::new(0.6, -0.5, 0.3).normalize(), position: Vec3::ZERO, intensity: 9.2, distance: 100.0 },
-            Light { kind: LightKind::Point, direction: Vec3::NEG_Y, position: Vec3::new(2.0, 1.2, -1.0), intensity: 9.2, distance: 100.0 },
+            Light {
+                kind: LightKind::Directional,
+                direction: Vec3::new(0.6, -0.5, 0.3).normalize(),
+                position: Vec3::ZERO,
+                intensity: 9.2,
+                distance: 100.0,
+            },
+            Light {
+                kind: LightKind::Point,
+                direction: Vec3::NEG_Y,
+                position: Vec3::new(2.0, 1.2, -1.0),
+                intensity: 9.2,
+                distance: 100.0,
+            },
             // Beside the water: rays reach it slanting, through the plane nearer the light.
-            Light { kind: LightKind::Point, direction: Vec3::NEG_Y, position: Vec3::new(5.0, 1.0, -3.0), intensity: 9.2, distance: 100.0 },
+            Light {
+                kind: LightKind::Point,
+                direction: Vec3::NEG_Y,
+                position: Vec3::new(5.0, 1.0, -3.0),
+                intensity: 9.2,
+                distance: 100.0,
+            },
         ];
         for light in lights {
             let s = scene(light);
@@ -276,7 +312,11 @@ mod tests {
                 let (o, d, _) = sampler.ray(edge + outward);
                 let t = surface.crossing(o, d, 0.0, f64::INFINITY, true).expect("a ray from above crosses");
                 let ps = o + t * d;
-                assert!(!surface.covers(ps.x, ps.z), "{:?}: a ray from outside the rectangle enters the water at {ps}", light.kind);
+                assert!(
+                    !surface.covers(ps.x, ps.z),
+                    "{:?}: a ray from outside the rectangle enters the water at {ps}",
+                    light.kind
+                );
                 outside += 1;
             }
             assert_eq!(outside, 4000);

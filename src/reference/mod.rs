@@ -83,8 +83,13 @@ pub fn render(
     };
     let caustic_work = if want_caustics { settings.caustic_photons } else { 0 };
     let godray_work = if want_godrays { settings.godray_beams } else { 0 };
-    let progress = Progress { done: AtomicU64::new(0), total: caustic_work.saturating_add(godray_work).max(1), report: progress };
-    let blank = |size: [u32; 2]| HdrImage { width: size[0], height: size[1], pixels: vec![[0.0; 4]; (size[0] * size[1]) as usize] };
+    let progress =
+        Progress { done: AtomicU64::new(0), total: caustic_work.saturating_add(godray_work).max(1), report: progress };
+    let blank = |size: [u32; 2]| HdrImage {
+        width: size[0],
+        height: size[1],
+        pixels: vec![[0.0; 4]; (size[0] * size[1]) as usize],
+    };
     let caustics = want_caustics.then(|| match &ctx.sampler {
         Some(sampler) => caustics::render(&ctx, sampler, settings, threads, &progress),
         None => blank(extents.caustic),
@@ -97,18 +102,31 @@ pub fn render(
     Ok(ReferenceImages { caustics, godrays })
 }
 
-fn validate(time: f32, extents: &FrameExtents, settings: &ReferenceSettings, caustics: bool, godrays: bool) -> Result<()> {
+fn validate(
+    time: f32,
+    extents: &FrameExtents,
+    settings: &ReferenceSettings,
+    caustics: bool,
+    godrays: bool,
+) -> Result<()> {
     let invalid = |name, message: String| Err(Error::InvalidParameter { name, message });
     if !time.is_finite() {
         return invalid("time", format!("must be finite, got {time}"));
     }
     if caustics && settings.caustic_photons == 0 {
-        return invalid("caustic_photons", "the scene has caustics: the reference needs at least one caustic photon".into());
+        return invalid(
+            "caustic_photons",
+            "the scene has caustics: the reference needs at least one caustic photon".into(),
+        );
     }
     if godrays && settings.godray_beams == 0 {
         return invalid("godray_beams", "the scene has godrays: the reference needs at least one godray beam".into());
     }
-    for (name, size, used) in [("extents.caustic", extents.caustic, caustics), ("extents.godray", extents.godray, godrays), ("extents.output", extents.output, true)] {
+    for (name, size, used) in [
+        ("extents.caustic", extents.caustic, caustics),
+        ("extents.godray", extents.godray, godrays),
+        ("extents.output", extents.output, true),
+    ] {
         if used && (size[0] == 0 || size[1] == 0) {
             return invalid(name, format!("target size {}×{} has no pixels", size[0], size[1]));
         }
@@ -147,7 +165,17 @@ impl<'a> Context<'a> {
         let slab_hi = DVec3::new(w.extent_max.x as f64, surface.level + surface.bound, w.extent_max.y as f64);
         let box_lo = lo.as_dvec3().min(slab_lo).min(camera.position) - 1.0;
         let box_hi = hi.as_dvec3().max(slab_hi).max(camera.position) + 1.0;
-        Ok(Self { scene, surface, bvh, camera, sampler, box_lo, box_hi, gamma: scene.medium.gamma.as_dvec3(), extents: *extents })
+        Ok(Self {
+            scene,
+            surface,
+            bvh,
+            camera,
+            sampler,
+            box_lo,
+            box_hi,
+            gamma: scene.medium.gamma.as_dvec3(),
+            extents: *extents,
+        })
     }
 
     /// Distance from `o` (inside the box) along unit `d` to where the ray leaves the box.
@@ -198,7 +226,12 @@ impl Progress<'_> {
 /// Runs `work(state, item)` for items 0..items on `threads` scoped threads, each with its own
 /// `init()` state (per-thread f64 buffers), handing items out one at a time; returns the
 /// states.
-fn parallel<T: Send>(threads: usize, items: u64, init: impl Fn() -> T + Sync, work: impl Fn(&mut T, u64) + Sync) -> Vec<T> {
+fn parallel<T: Send>(
+    threads: usize,
+    items: u64,
+    init: impl Fn() -> T + Sync,
+    work: impl Fn(&mut T, u64) + Sync,
+) -> Vec<T> {
     let next = AtomicUsize::new(0);
     let threads = threads.clamp(1, items.max(1) as usize);
     std::thread::scope(|scope| {

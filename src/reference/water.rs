@@ -71,7 +71,10 @@ impl<'a> Surface<'a> {
 
     pub fn covers(&self, x: f64, z: f64) -> bool {
         let w = &self.water;
-        x >= w.extent_min.x as f64 && x <= w.extent_max.x as f64 && z >= w.extent_min.y as f64 && z <= w.extent_max.y as f64
+        x >= w.extent_min.x as f64
+            && x <= w.extent_max.x as f64
+            && z >= w.extent_min.y as f64
+            && z <= w.extent_max.y as f64
     }
 
     /// The first `t` in [t0, t1] where the ray `o + t·d` (d unit) is on the other side of

@@ -100,7 +100,13 @@ pub fn load_obj(path: &Path) -> Result<ObjModel> {
 /// the system's 8-bit code page, and those names are only labels.
 fn decode_text(bytes: &[u8], path: &Path, warnings: &mut Vec<String>) -> String {
     let utf16 = |bytes: &[u8], little: bool| -> String {
-        let units = bytes.chunks_exact(2).map(|c| if little { u16::from_le_bytes([c[0], c[1]]) } else { u16::from_be_bytes([c[0], c[1]]) });
+        let units = bytes.chunks_exact(2).map(|c| {
+            if little {
+                u16::from_le_bytes([c[0], c[1]])
+            } else {
+                u16::from_be_bytes([c[0], c[1]])
+            }
+        });
         char::decode_utf16(units).map(|c| c.unwrap_or(char::REPLACEMENT_CHARACTER)).collect()
     };
     if let Some(rest) = bytes.strip_prefix(&[0xEF, 0xBB, 0xBF]) {
@@ -117,7 +123,9 @@ fn decode_text(bytes: &[u8], path: &Path, warnings: &mut Vec<String>) -> String 
     let zeros_at = |parity: usize| bytes.iter().skip(parity).step_by(2).filter(|&&b| b == 0).count();
     let half = bytes.len() / 2;
     let little = little.or_else(|| {
-        (half >= 4 && zeros_at(1) * 10 >= half * 9).then_some(true).or((half >= 4 && zeros_at(0) * 10 >= half * 9).then_some(false))
+        (half >= 4 && zeros_at(1) * 10 >= half * 9)
+            .then_some(true)
+            .or((half >= 4 && zeros_at(0) * 10 >= half * 9).then_some(false))
     });
     if let Some(little) = little {
         warnings.push(format!(
@@ -153,7 +161,7 @@ fn prepare_for_tobj(text: &str, path: &Path, warnings: &mut Vec<String>) -> Stri
             Some("l" | "p") => skipped.push(i + 1),
             Some(keyword @ ("usemtl" | "newmtl")) if words.next().is_none() => {
                 out.push_str(keyword);
-                out.push_str(" ");
+                out.push(' ');
                 out.push_str(UNNAMED_MATERIAL);
             }
             _ => out.push_str(line),
@@ -179,7 +187,11 @@ pub const UNNAMED_MATERIAL: &str = "(unnamed)";
 /// Loads one MTL file for tobj. A failure is parked in `error` with the file (and the line
 /// tobj stopped at), since tobj would only keep its position-less error kind. A missing file
 /// is a warning: the model renders with the default material.
-fn load_mtl(path: &Path, error: &RefCell<Option<anyhow::Error>>, warnings: &RefCell<Vec<String>>) -> tobj::MTLLoadResult {
+fn load_mtl(
+    path: &Path,
+    error: &RefCell<Option<anyhow::Error>>,
+    warnings: &RefCell<Vec<String>>,
+) -> tobj::MTLLoadResult {
     let park = |e: anyhow::Error, kind: tobj::LoadError| {
         error.borrow_mut().get_or_insert(e);
         Err(kind)
@@ -247,12 +259,16 @@ fn check_obj_text(text: &str) -> std::result::Result<(), (usize, String)> {
             Some(keyword @ ("v" | "vn" | "vt")) => {
                 let mut xyz = Vec::with_capacity(3);
                 for w in words.by_ref() {
-                    let value: f32 = w.parse().map_err(|_| (line_no, format!("`{keyword}` coordinate `{w}` is not a number")))?;
+                    let value: f32 =
+                        w.parse().map_err(|_| (line_no, format!("`{keyword}` coordinate `{w}` is not a number")))?;
                     xyz.push(value);
                 }
                 let needed = if keyword == "vt" { 1 } else { 3 };
                 if xyz.len() < needed {
-                    return Err((line_no, format!("`{keyword}` needs {needed} coordinate(s), got {} in `{}`", xyz.len(), line.trim())));
+                    return Err((
+                        line_no,
+                        format!("`{keyword}` needs {needed} coordinate(s), got {} in `{}`", xyz.len(), line.trim()),
+                    ));
                 }
                 if xyz.iter().any(|c| !c.is_finite()) {
                     return Err((line_no, format!("non-finite coordinate in `{}`", line.trim())));
@@ -324,7 +340,11 @@ fn build_mesh(name: String, mesh: &tobj::Mesh, albedo: Vec3) -> Option<(Mesh, us
         let (p, n, i) = smooth_normals(positions, triangles);
         return Some((Mesh { name, positions: p, normals: n, indices: i, albedo }, 0));
     }
-    let mut normals: Vec<Vec3> = mesh.normals.chunks_exact(3).map(|n| Vec3::new(n[0], n[1], n[2]).try_normalize().unwrap_or(Vec3::ZERO)).collect();
+    let mut normals: Vec<Vec3> = mesh
+        .normals
+        .chunks_exact(3)
+        .map(|n| Vec3::new(n[0], n[1], n[2]).try_normalize().unwrap_or(Vec3::ZERO))
+        .collect();
     // A zero normal cannot be lit: its corner gets a copy of the vertex with the face's normal.
     let mut repaired = 0;
     let mut fixed: Vec<[u32; 3]> = Vec::with_capacity(triangles.len());
@@ -544,7 +564,18 @@ mod tests {
         assert!((area - 3.0).abs() < 1e-5, "{area}: every triangle inside, same winding");
         // A 4×4 square with a 2×2 hole, bridged from (0,0) to (1,1): area 12, and no triangle
         // covers the hole's centre.
-        let ring = [(0.0, 0.0), (4.0, 0.0), (4.0, 4.0), (0.0, 4.0), (0.0, 0.0), (1.0, 1.0), (1.0, 3.0), (3.0, 3.0), (3.0, 1.0), (1.0, 1.0)];
+        let ring = [
+            (0.0, 0.0),
+            (4.0, 0.0),
+            (4.0, 4.0),
+            (0.0, 4.0),
+            (0.0, 0.0),
+            (1.0, 1.0),
+            (1.0, 3.0),
+            (3.0, 3.0),
+            (3.0, 1.0),
+            (1.0, 1.0),
+        ];
         let positions: Vec<Vec3> = ring.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect();
         let mut tris = Vec::new();
         ear_clip(&positions, &(0..positions.len() as u32).collect::<Vec<_>>(), &mut tris);
@@ -553,7 +584,9 @@ mod tests {
         let centre = glam::Vec2::new(2.5, 1.5); // inside the hole, off the diagonals
         for t in &tris {
             let [a, b, c] = t.map(|i| positions[i as usize].truncate());
-            let inside = (b - a).perp_dot(centre - a) > 0.0 && (c - b).perp_dot(centre - b) > 0.0 && (a - c).perp_dot(centre - c) > 0.0;
+            let inside = (b - a).perp_dot(centre - a) > 0.0
+                && (c - b).perp_dot(centre - b) > 0.0
+                && (a - c).perp_dot(centre - c) > 0.0;
             assert!(!inside, "triangle {t:?} covers the hole");
         }
     }

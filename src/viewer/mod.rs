@@ -642,7 +642,7 @@ impl Live {
         let passes: Vec<String> = median.passes.iter().map(|(id, ms)| format!("{} {:.1}", id.name(), ms)).collect();
         let line = format!("{:.1} fps | GPU ms: {} | total {:.1}", fps, passes.join(" "), median.total_ms());
         self.window.set_title(&format!("underlight — {} — {line}", self.scene.name));
-        if self.frames_rendered % 4 == 0 || elapsed > Duration::from_secs(2) {
+        if self.frames_rendered.is_multiple_of(4) || elapsed > Duration::from_secs(2) {
             println!("{line}");
         }
         self.last_report = Instant::now();
@@ -673,7 +673,8 @@ fn record_present(
     extent: vk::Extent2D,
     screenshot: Option<&Buffer>,
 ) {
-    let range = vk::ImageSubresourceRange::default().aspect_mask(vk::ImageAspectFlags::COLOR).level_count(1).layer_count(1);
+    let range =
+        vk::ImageSubresourceRange::default().aspect_mask(vk::ImageAspectFlags::COLOR).level_count(1).layer_count(1);
     let layers = vk::ImageSubresourceLayers::default().aspect_mask(vk::ImageAspectFlags::COLOR).layer_count(1);
     let barrier = |old, new, src_stage, src_access, dst_stage, dst_access| {
         vk::ImageMemoryBarrier2::default()
@@ -723,9 +724,11 @@ fn record_present(
                 vk::AccessFlags2::TRANSFER_READ,
             )];
             dev.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(&to_src));
-            let region = vk::BufferImageCopy::default()
-                .image_subresource(layers)
-                .image_extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 });
+            let region = vk::BufferImageCopy::default().image_subresource(layers).image_extent(vk::Extent3D {
+                width: extent.width,
+                height: extent.height,
+                depth: 1,
+            });
             dev.raw.cmd_copy_image_to_buffer(cmd, image, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, buffer.raw, &[region]);
             let to_host = [vk::MemoryBarrier2::default()
                 .src_stage_mask(vk::PipelineStageFlags2::COPY)

@@ -49,7 +49,8 @@ pub fn parse(text: &str) -> Result<Vec<Step>> {
         let (name, arg) = item.split_once(':').unwrap_or((item, ""));
         let bad = || format!("script step {} ({item:?})", i + 1);
         let floats = |n: usize| -> Result<Vec<f32>> {
-            let v: Vec<f32> = arg.split('/').map(|x| x.trim().parse::<f32>()).collect::<Result<_, _>>().with_context(bad)?;
+            let v: Vec<f32> =
+                arg.split('/').map(|x| x.trim().parse::<f32>()).collect::<Result<_, _>>().with_context(bad)?;
             if v.len() != n || v.iter().any(|x| !x.is_finite()) {
                 bail!("{}: expected {n} finite number(s) separated by '/'", bad());
             }

@@ -133,8 +133,7 @@ impl FrameRing {
         self.retire(self.current, &mut |_, _| {})?;
         let dev = &self.device.raw;
         let slot = &mut self.slots[self.current];
-        unsafe { dev.reset_command_pool(slot.pool, vk::CommandPoolResetFlags::empty()) }
-            .call("vkResetCommandPool")?;
+        unsafe { dev.reset_command_pool(slot.pool, vk::CommandPoolResetFlags::empty()) }.call("vkResetCommandPool")?;
         let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
         unsafe { dev.begin_command_buffer(slot.cmd, &begin) }.call("vkBeginCommandBuffer")?;
         slot.timer.begin_frame(slot.cmd);
@@ -211,7 +210,6 @@ impl FrameRing {
     pub fn last_timings(&self) -> Option<(u64, &PassTimings)> {
         self.last_timed_frame.map(|f| (f, &self.last_timings))
     }
-
 }
 
 impl Drop for FrameRing {

@@ -56,8 +56,8 @@ impl DescriptorSets {
             })
             .collect();
         let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&layout_bindings);
-        let layout = unsafe { device.raw.create_descriptor_set_layout(&info, None) }
-            .call("vkCreateDescriptorSetLayout")?;
+        let layout =
+            unsafe { device.raw.create_descriptor_set_layout(&info, None) }.call("vkCreateDescriptorSetLayout")?;
         device.set_name(layout, &format!("{name} set layout"));
         let mut this = Self { layout, pool: vk::DescriptorPool::null(), sets: Vec::new(), device: device.clone() };
         let mut sizes: Vec<vk::DescriptorPoolSize> = Vec::new();

@@ -65,7 +65,8 @@ pub fn enumerate(instance: &Instance) -> Result<Vec<PhysicalDeviceInfo>> {
         let properties = props2.properties;
         let extensions = unsafe { raw.enumerate_device_extension_properties(handle) }
             .call("vkEnumerateDeviceExtensionProperties")?;
-        let has_atomic_float = extensions.iter().any(|e| e.extension_name_as_c_str() == Ok(ash::ext::shader_atomic_float::NAME));
+        let has_atomic_float =
+            extensions.iter().any(|e| e.extension_name_as_c_str() == Ok(ash::ext::shader_atomic_float::NAME));
         let mut f13 = vk::PhysicalDeviceVulkan13Features::default();
         let mut atomic_float = vk::PhysicalDeviceShaderAtomicFloatFeaturesEXT::default();
         let mut f2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut f13);
@@ -92,8 +93,7 @@ pub fn enumerate(instance: &Instance) -> Result<Vec<PhysicalDeviceInfo>> {
             properties,
             capabilities: DeviceCapabilities {
                 features,
-                synchronization2: f13.synchronization2 == vk::TRUE
-                    && properties.api_version >= vk::API_VERSION_1_3,
+                synchronization2: f13.synchronization2 == vk::TRUE && properties.api_version >= vk::API_VERSION_1_3,
                 graphics_timestamp_valid_bits: graphics.map(|i| queues[i].timestamp_valid_bits),
                 timestamp_period: properties.limits.timestamp_period,
                 buffer_float_atomic_add,
@@ -112,11 +112,9 @@ pub fn choose(devices: &[PhysicalDeviceInfo], wanted: Option<&str>) -> Result<Ph
     }
     if let Some(wanted) = wanted {
         let w = wanted.to_lowercase();
-        let dev = devices.iter().find(|d| d.name.to_lowercase().contains(&w)).ok_or_else(|| {
-            Error::DeviceNotFound {
-                wanted: wanted.to_string(),
-                available: devices.iter().map(|d| d.name.clone()).collect::<Vec<_>>().join(", "),
-            }
+        let dev = devices.iter().find(|d| d.name.to_lowercase().contains(&w)).ok_or_else(|| Error::DeviceNotFound {
+            wanted: wanted.to_string(),
+            available: devices.iter().map(|d| d.name.clone()).collect::<Vec<_>>().join(", "),
         })?;
         let missing = missing_features(&dev.capabilities);
         if !missing.is_empty() {
@@ -156,9 +154,8 @@ impl Device {
     pub fn new(instance: Arc<Instance>, info: PhysicalDeviceInfo, swapchain: bool) -> Result<Self> {
         let queue_family = info.graphics_queue_family.ok_or(Error::NoDevice)?;
         let priorities = [1.0f32];
-        let queue_infos = [vk::DeviceQueueCreateInfo::default()
-            .queue_family_index(queue_family)
-            .queue_priorities(&priorities)];
+        let queue_infos =
+            [vk::DeviceQueueCreateInfo::default().queue_family_index(queue_family).queue_priorities(&priorities)];
         let features = vk::PhysicalDeviceFeatures {
             geometry_shader: vk::TRUE,
             shader_tessellation_and_geometry_point_size: vk::TRUE,
@@ -188,8 +185,7 @@ impl Device {
             .push_next(&mut f2);
         instance.validation.set_phase("device creation");
         // SAFETY: the physical device comes from this instance; create_info points at locals.
-        let raw = unsafe { instance.raw.create_device(info.handle, &create_info, None) }
-            .call("vkCreateDevice")?;
+        let raw = unsafe { instance.raw.create_device(info.handle, &create_info, None) }.call("vkCreateDevice")?;
         let queue = unsafe { raw.get_device_queue(queue_family, 0) };
         let allocator = Allocator::new(&AllocatorCreateDesc {
             instance: instance.raw.clone(),

@@ -96,9 +96,7 @@ impl Image {
 /// Depth formats get the depth aspect, everything else colour.
 pub fn aspect_of(format: vk::Format) -> vk::ImageAspectFlags {
     match format {
-        vk::Format::D16_UNORM | vk::Format::D32_SFLOAT | vk::Format::X8_D24_UNORM_PACK32 => {
-            vk::ImageAspectFlags::DEPTH
-        }
+        vk::Format::D16_UNORM | vk::Format::D32_SFLOAT | vk::Format::X8_D24_UNORM_PACK32 => vk::ImageAspectFlags::DEPTH,
         vk::Format::D24_UNORM_S8_UINT | vk::Format::D32_SFLOAT_S8_UINT | vk::Format::D16_UNORM_S8_UINT => {
             vk::ImageAspectFlags::DEPTH | vk::ImageAspectFlags::STENCIL
         }
@@ -111,8 +109,12 @@ pub fn texel_size(format: vk::Format) -> Option<usize> {
     Some(match format {
         vk::Format::R16G16B16A16_SFLOAT => 8,
         vk::Format::R32G32B32A32_SFLOAT => 16,
-        vk::Format::R8G8B8A8_UNORM | vk::Format::R8G8B8A8_SRGB | vk::Format::B8G8R8A8_UNORM
-        | vk::Format::B8G8R8A8_SRGB | vk::Format::R32_SFLOAT | vk::Format::D32_SFLOAT => 4,
+        vk::Format::R8G8B8A8_UNORM
+        | vk::Format::R8G8B8A8_SRGB
+        | vk::Format::B8G8R8A8_UNORM
+        | vk::Format::B8G8R8A8_SRGB
+        | vk::Format::R32_SFLOAT
+        | vk::Format::D32_SFLOAT => 4,
         vk::Format::R16_SFLOAT => 2,
         _ => return None,
     })

@@ -195,7 +195,12 @@ impl Pipeline {
         let vertex_attributes: Vec<vk::VertexInputAttributeDescription> = desc
             .vertex_attributes
             .iter()
-            .map(|&(location, format, offset)| vk::VertexInputAttributeDescription { location, binding: 0, format, offset })
+            .map(|&(location, format, offset)| vk::VertexInputAttributeDescription {
+                location,
+                binding: 0,
+                format,
+                offset,
+            })
             .collect();
         let vertex_input = if desc.vertex_attributes.is_empty() {
             vk::PipelineVertexInputStateCreateInfo::default()
@@ -218,8 +223,9 @@ impl Pipeline {
             .depth_write_enable(desc.depth_write)
             .depth_compare_op(vk::CompareOp::LESS_OR_EQUAL);
         let attachment = match desc.blend {
-            Blend::Opaque => vk::PipelineColorBlendAttachmentState::default()
-                .color_write_mask(vk::ColorComponentFlags::RGBA),
+            Blend::Opaque => {
+                vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA)
+            }
             Blend::Additive => vk::PipelineColorBlendAttachmentState::default()
                 .blend_enable(true)
                 .src_color_blend_factor(vk::BlendFactor::ONE)
@@ -250,8 +256,7 @@ impl Pipeline {
             .layout(pipeline.layout)
             .render_pass(desc.render_pass)
             .subpass(0);
-        let created =
-            unsafe { raw_dev.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) };
+        let created = unsafe { raw_dev.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) };
         for m in modules {
             unsafe { raw_dev.destroy_shader_module(m, None) };
         }

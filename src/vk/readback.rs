@@ -67,11 +67,21 @@ impl Readback {
         };
         let dev = &self.device.raw;
         if layout != src {
-            unsafe { dev.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(&barrier(layout, src))) };
+            unsafe {
+                dev.cmd_pipeline_barrier2(
+                    cmd,
+                    &vk::DependencyInfo::default().image_memory_barriers(&barrier(layout, src)),
+                )
+            };
         }
         self.record(cmd, image);
         if layout != src {
-            unsafe { dev.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(&barrier(src, layout))) };
+            unsafe {
+                dev.cmd_pipeline_barrier2(
+                    cmd,
+                    &vk::DependencyInfo::default().image_memory_barriers(&barrier(src, layout)),
+                )
+            };
         }
     }
 
@@ -99,9 +109,7 @@ impl Readback {
                 self.buffer.raw,
                 &[region],
             );
-            self.device
-                .raw
-                .cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&to_host));
+            self.device.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&to_host));
         }
     }
 
@@ -134,9 +142,7 @@ impl Readback {
                     [v, v, v, 1.0]
                 })
                 .collect(),
-            other => {
-                return Err(Error::InvalidParameter { name: "readback format", message: format!("{other:?}") })
-            }
+            other => return Err(Error::InvalidParameter { name: "readback format", message: format!("{other:?}") }),
         };
         Ok(HdrImage { width: w, height: h, pixels })
     }

@@ -35,7 +35,12 @@ pub struct RenderPass {
 
 impl RenderPass {
     /// One subpass writing `colors` (and `depth`, if any). All attachments must share an extent.
-    pub fn new(device: &Arc<Device>, name: &str, colors: &[Attachment<'_>], depth: Option<&Attachment<'_>>) -> Result<Self> {
+    pub fn new(
+        device: &Arc<Device>,
+        name: &str,
+        colors: &[Attachment<'_>],
+        depth: Option<&Attachment<'_>>,
+    ) -> Result<Self> {
         let mut descs = Vec::new();
         let mut clear_values = Vec::new();
         let mut push = |a: &Attachment<'_>, is_depth: bool| {
@@ -103,10 +108,8 @@ impl RenderPass {
             },
         ];
         let subpasses = [subpass];
-        let info = vk::RenderPassCreateInfo::default()
-            .attachments(&descs)
-            .subpasses(&subpasses)
-            .dependencies(&dependencies);
+        let info =
+            vk::RenderPassCreateInfo::default().attachments(&descs).subpasses(&subpasses).dependencies(&dependencies);
         let raw = unsafe { device.raw.create_render_pass(&info, None) }.call("vkCreateRenderPass")?;
         device.set_name(raw, name);
         let extent = colors.first().or(depth).map(|a| a.image.extent).unwrap_or_default();
@@ -188,7 +191,12 @@ impl ColorTarget {
             | vk::ImageUsageFlags::TRANSFER_SRC
             | vk::ImageUsageFlags::TRANSFER_DST;
         let image = Image::new(device, name, extent, format, usage)?;
-        let render_pass = RenderPass::new(device, name, &[Attachment { image: &image, load: Load::Clear([0.0; 4]), final_layout }], None)?;
+        let render_pass = RenderPass::new(
+            device,
+            name,
+            &[Attachment { image: &image, load: Load::Clear([0.0; 4]), final_layout }],
+            None,
+        )?;
         Ok(Self { render_pass, image })
     }
 }

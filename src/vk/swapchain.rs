@@ -62,10 +62,9 @@ impl Surface {
         let raw = unsafe { ash_window::create_surface(&inst.entry, &inst.raw, display, window, None) }
             .call("vkCreate*SurfaceKHR")?;
         let loader = ash::khr::surface::Instance::new(&inst.entry, &inst.raw);
-        let supported = unsafe {
-            loader.get_physical_device_surface_support(device.info.handle, device.queue_family, raw)
-        }
-        .unwrap_or(false);
+        let supported =
+            unsafe { loader.get_physical_device_surface_support(device.info.handle, device.queue_family, raw) }
+                .unwrap_or(false);
         let surface = Self { raw, loader, _device: device.clone() };
         if !supported {
             return Err(Error::MissingFeatures {
@@ -186,7 +185,8 @@ impl Swapchain {
         let waits = [self.rendered[index as usize]];
         let swapchains = [self.raw];
         let indices = [index];
-        let info = vk::PresentInfoKHR::default().wait_semaphores(&waits).swapchains(&swapchains).image_indices(&indices);
+        let info =
+            vk::PresentInfoKHR::default().wait_semaphores(&waits).swapchains(&swapchains).image_indices(&indices);
         match unsafe { self.loader.queue_present(self.device.queue, &info) } {
             Ok(false) => Ok(true),
             Ok(true) | Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(false),

@@ -54,9 +54,8 @@ pub struct PassTimer {
 
 impl PassTimer {
     pub fn new(device: &Arc<Device>, name: &str, capacity_passes: u32) -> Result<Self> {
-        let info = vk::QueryPoolCreateInfo::default()
-            .query_type(vk::QueryType::TIMESTAMP)
-            .query_count(capacity_passes * 2);
+        let info =
+            vk::QueryPoolCreateInfo::default().query_type(vk::QueryType::TIMESTAMP).query_count(capacity_passes * 2);
         let pool = unsafe { device.raw.create_query_pool(&info, None) }.call("vkCreateQueryPool")?;
         device.set_name(pool, name);
         let bits = device.info.capabilities.graphics_timestamp_valid_bits.unwrap_or(64);
@@ -90,13 +89,9 @@ impl PassTimer {
         // Not every layer version reports command-buffer labels with its messages (1.3.239's
         // synchronization validation does not), so the pass is also declared as the phase.
         dev.set_phase(id.name());
-        unsafe {
-            dev.raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::TOP_OF_PIPE, self.pool, 2 * index)
-        };
+        unsafe { dev.raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::TOP_OF_PIPE, self.pool, 2 * index) };
         let r = record(cmd);
-        unsafe {
-            dev.raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::BOTTOM_OF_PIPE, self.pool, 2 * index + 1)
-        };
+        unsafe { dev.raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::BOTTOM_OF_PIPE, self.pool, 2 * index + 1) };
         dev.end_label(cmd);
         dev.set_phase("recording, between passes");
         r

@@ -12,18 +12,24 @@ use gpu_allocator::MemoryLocation;
 use std::sync::Arc;
 
 /// A device-local buffer filled with `bytes`.
-pub fn buffer_with_data(
-    device: &Arc<Device>,
-    name: &str,
-    bytes: &[u8],
-    usage: vk::BufferUsageFlags,
-) -> Result<Buffer> {
+pub fn buffer_with_data(device: &Arc<Device>, name: &str, bytes: &[u8], usage: vk::BufferUsageFlags) -> Result<Buffer> {
     let size = bytes.len().max(4) as vk::DeviceSize;
-    let mut staging = Buffer::new(device, &format!("{name} staging"), size, vk::BufferUsageFlags::TRANSFER_SRC, MemoryLocation::CpuToGpu)?;
+    let mut staging = Buffer::new(
+        device,
+        &format!("{name} staging"),
+        size,
+        vk::BufferUsageFlags::TRANSFER_SRC,
+        MemoryLocation::CpuToGpu,
+    )?;
     staging.mapped_mut().expect("host-visible staging")[..bytes.len()].copy_from_slice(bytes);
     let buffer = Buffer::new(device, name, size, usage | vk::BufferUsageFlags::TRANSFER_DST, MemoryLocation::GpuOnly)?;
     one_shot(device, &format!("upload {name}"), |cmd| unsafe {
-        device.raw.cmd_copy_buffer(cmd, staging.raw, buffer.raw, &[vk::BufferCopy { src_offset: 0, dst_offset: 0, size }]);
+        device.raw.cmd_copy_buffer(
+            cmd,
+            staging.raw,
+            buffer.raw,
+            &[vk::BufferCopy { src_offset: 0, dst_offset: 0, size }],
+        );
         // Make the copy visible to every later reader (vertex input, shaders).
         let barrier = [vk::MemoryBarrier2::default()
             .src_stage_mask(vk::PipelineStageFlags2::COPY)
@@ -53,7 +59,8 @@ pub fn image_with_data(
         MemoryLocation::CpuToGpu,
     )?;
     staging.mapped_mut().expect("host-visible staging").copy_from_slice(bytes);
-    let image = Image::new(device, name, extent, format, vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST)?;
+    let image =
+        Image::new(device, name, extent, format, vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST)?;
     one_shot(device, &format!("upload {name}"), |cmd| unsafe {
         let to_dst = [vk::ImageMemoryBarrier2::default()
             .dst_stage_mask(vk::PipelineStageFlags2::COPY)
@@ -66,7 +73,13 @@ pub fn image_with_data(
         let region = vk::BufferImageCopy::default()
             .image_subresource(vk::ImageSubresourceLayers::default().aspect_mask(image.aspect).layer_count(1))
             .image_extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 });
-        device.raw.cmd_copy_buffer_to_image(cmd, staging.raw, image.raw, vk::ImageLayout::TRANSFER_DST_OPTIMAL, &[region]);
+        device.raw.cmd_copy_buffer_to_image(
+            cmd,
+            staging.raw,
+            image.raw,
+            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+            &[region],
+        );
         let to_read = [vk::ImageMemoryBarrier2::default()
             .src_stage_mask(vk::PipelineStageFlags2::COPY)
             .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)

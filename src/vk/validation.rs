@@ -80,7 +80,6 @@ impl ValidationLog {
         std::mem::take(&mut self.state.lock().unwrap_or_else(|p| p.into_inner()).leaks)
     }
 
-
     fn record(&self, severity: Severity, id: String, label: Option<String>, text: String) {
         let mut s = self.state.lock().unwrap_or_else(|p| p.into_inner());
         let pass = label.unwrap_or_else(|| s.phase.clone());
@@ -144,9 +143,8 @@ pub(crate) unsafe extern "system" fn messenger_callback(
         }
         let label = if data.cmd_buf_label_count > 0 && !data.p_cmd_buf_labels.is_null() {
             // SAFETY: count and pointer come together from the layer.
-            let labels = unsafe {
-                std::slice::from_raw_parts(data.p_cmd_buf_labels, data.cmd_buf_label_count as usize)
-            };
+            let labels =
+                unsafe { std::slice::from_raw_parts(data.p_cmd_buf_labels, data.cmd_buf_label_count as usize) };
             labels.last().map(|l| cstr(l.p_label_name))
         } else {
             None
