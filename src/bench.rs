@@ -4,13 +4,13 @@
 //! rates the paper measured on its GTX 260 (2009).
 
 use crate::frame::FrameOptions;
+use crate::frame::PassTimings;
 use crate::headless::SceneRenderer;
 use crate::image_io::HdrImage;
 use crate::passes::PassId;
 use crate::passes::PhotonPath;
 use crate::scene::Scene;
 use crate::vk::device::Device;
-use crate::vk::timing::PassTimings;
 use anyhow::{bail, Result};
 use ash::vk;
 use serde::Serialize;

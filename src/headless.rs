@@ -1,15 +1,15 @@
 //! Headless rendering: frames into an off-screen target, the last one read back.
 
 use crate::error::Result;
+use crate::frame::FrameRing;
+use crate::frame::PassTimings;
 use crate::frame::{Frame, FrameOptions};
 use crate::image_io::HdrImage;
 use crate::passes::grid_splat::{GridSplatPass, GridSplatSettings};
 use crate::passes::PassId;
 use crate::scene::Scene;
-use crate::vk::commands::FrameRing;
 use crate::vk::device::Device;
 use crate::vk::readback::Readback;
-use crate::vk::timing::PassTimings;
 use ash::vk;
 use std::sync::Arc;
 
@@ -237,7 +237,7 @@ fn run_frames(
     frames: u32,
     t0: f32,
     dt: f32,
-    mut record: impl FnMut(&mut crate::vk::commands::FrameSlot, f32, bool),
+    mut record: impl FnMut(&mut crate::frame::FrameSlot, f32, bool),
 ) -> Result<Vec<PassTimings>> {
     let mut timings = Vec::with_capacity(frames as usize);
     for f in 0..frames {

@@ -15,7 +15,7 @@ use underlight::scene::{Light, LightKind, Scene, WaterModel};
 use underlight::shader_math::fresnel_transmittance;
 use underlight::vk::vk;
 
-fn render(scene: &Scene) -> (SceneImages, Vec<underlight::vk::timing::PassTimings>) {
+fn render(scene: &Scene) -> (SceneImages, Vec<underlight::frame::PassTimings>) {
     let ctx = validated_context();
     let out = vk::Extent2D { width: scene.output[0], height: scene.output[1] };
     let mut renderer = SceneRenderer::new(&ctx.device, scene, out).unwrap();

@@ -6,9 +6,9 @@ mod common;
 use common::{assert_clean_shutdown, validated_context};
 use gpu_allocator::vulkan::{AllocationCreateDesc, AllocationScheme};
 use gpu_allocator::MemoryLocation;
+use underlight::frame::FrameRing;
 use underlight::passes::PassId;
 use underlight::vk::buffer::Buffer;
-use underlight::vk::commands::FrameRing;
 use underlight::vk::image::Image;
 use underlight::vk::{vk, Context, ContextDesc};
 

@@ -24,7 +24,7 @@ use crate::passes::{photon_set_index, PHOTON_SETS};
 use crate::scene::Scene;
 use crate::shader_math::NoiseTexture;
 use crate::vk::buffer::Buffer;
-use crate::vk::commands::{FrameSlot, FRAMES_IN_FLIGHT};
+use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets, Resource};
 use crate::vk::device::Device;
 use crate::vk::image::Image;
@@ -36,6 +36,14 @@ use mesh::GpuMeshes;
 use std::fmt;
 use std::sync::Arc;
 use uniforms::{FrameExtents, FrameUniforms};
+
+/// GPU milliseconds per pass of one frame, in recording order: the backend's timing table
+/// for the method's passes.
+pub type PassTimings = crate::vk::timing::PassTimings<PassId>;
+/// The ring of frames in flight, timing the method's passes.
+pub type FrameRing = crate::vk::commands::FrameRing<PassId>;
+/// One frame in flight of that ring.
+pub type FrameSlot = crate::vk::commands::FrameSlot<PassId>;
 
 /// Binding numbers of the frame's descriptor set (`glsl/frame_textures.glsl`).
 pub mod bindings {

@@ -144,6 +144,12 @@ impl PassId {
     }
 }
 
+impl crate::vk::timing::TimedPass for PassId {
+    fn label(self) -> &'static CStr {
+        PassId::label(self)
+    }
+}
+
 impl std::fmt::Display for PassId {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.name())

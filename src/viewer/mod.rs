@@ -9,6 +9,8 @@
 pub mod camera;
 pub mod script;
 
+use crate::frame::FrameRing;
+use crate::frame::PassTimings;
 use crate::frame::{Frame, FrameOptions};
 use crate::headless::median_timings;
 use crate::image_io;
@@ -16,9 +18,7 @@ use crate::memory::MemorySample;
 use crate::passes::PassId;
 use crate::scene::{Scene, WaterModel};
 use crate::vk::buffer::Buffer;
-use crate::vk::commands::FrameRing;
 use crate::vk::swapchain::{PresentMode, Surface, Swapchain};
-use crate::vk::timing::PassTimings;
 use crate::vk::{Context, ContextDesc, ShutdownReport};
 use anyhow::{anyhow, Context as _, Result};
 use ash::vk;

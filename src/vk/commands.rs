@@ -1,7 +1,7 @@
 //! Command submission: one-shot work (uploads, read-backs) and the ring of frames in flight.
 
 use super::device::Device;
-use super::timing::{PassTimer, PassTimings};
+use super::timing::{PassTimer, PassTimings, TimedPass};
 use crate::error::{Result, VkResultExt};
 use ash::vk;
 use std::sync::Arc;
@@ -54,24 +54,24 @@ pub fn one_shot<R>(device: &Device, name: &str, record: impl FnOnce(vk::CommandB
 
 /// One frame in flight: its command buffer, the fence that says the GPU finished it, and its
 /// own timestamp pool.
-pub struct FrameSlot {
+pub struct FrameSlot<P> {
     /// Which of the FRAMES_IN_FLIGHT slots this is (selects per-frame uniforms and sets).
     pub index: usize,
     pub cmd: vk::CommandBuffer,
     pool: vk::CommandPool,
     fence: vk::Fence,
-    pub timer: PassTimer,
+    pub timer: PassTimer<P>,
     submitted: bool,
 }
 
 /// The ring of frames in flight. `begin` waits only for the frame recorded
 /// `FRAMES_IN_FLIGHT` frames ago, then reads that frame's timings without stalling further.
-pub struct FrameRing {
-    slots: Vec<FrameSlot>,
+pub struct FrameRing<P> {
+    slots: Vec<FrameSlot<P>>,
     current: usize,
     frames_begun: u64,
     /// Timings of the most recent frame the GPU finished.
-    last_timings: PassTimings,
+    last_timings: PassTimings<P>,
     /// Number (0-based) of the frame `last_timings` belongs to.
     last_timed_frame: Option<u64>,
     /// Whether `last_timings` arrived since `take_fresh_timings` was last called.
@@ -80,7 +80,7 @@ pub struct FrameRing {
     device: Arc<Device>,
 }
 
-impl FrameRing {
+impl<P: TimedPass> FrameRing<P> {
     pub fn new(device: &Arc<Device>) -> Result<Self> {
         let mut slots = Vec::with_capacity(FRAMES_IN_FLIGHT);
         for i in 0..FRAMES_IN_FLIGHT {
@@ -129,7 +129,7 @@ impl FrameRing {
     }
 
     /// Waits for the slot's previous frame, harvests its timings, and starts recording.
-    pub fn begin(&mut self) -> Result<&mut FrameSlot> {
+    pub fn begin(&mut self) -> Result<&mut FrameSlot<P>> {
         self.retire(self.current, &mut |_, _| {})?;
         let dev = &self.device.raw;
         let slot = &mut self.slots[self.current];
@@ -175,7 +175,7 @@ impl FrameRing {
 
     /// Waits for every submitted frame and harvests their timings oldest first, handing each
     /// to `on_timings` (frame number, timings); afterwards `last_timings` is the newest frame's.
-    pub fn finish(&mut self, mut on_timings: impl FnMut(u64, &PassTimings)) -> Result<()> {
+    pub fn finish(&mut self, mut on_timings: impl FnMut(u64, &PassTimings<P>)) -> Result<()> {
         for k in 0..FRAMES_IN_FLIGHT {
             self.retire((self.current + k) % FRAMES_IN_FLIGHT, &mut on_timings)?;
         }
@@ -183,7 +183,7 @@ impl FrameRing {
         Ok(())
     }
 
-    fn retire(&mut self, index: usize, on_timings: &mut dyn FnMut(u64, &PassTimings)) -> Result<()> {
+    fn retire(&mut self, index: usize, on_timings: &mut dyn FnMut(u64, &PassTimings<P>)) -> Result<()> {
         let slot = &mut self.slots[index];
         unsafe { self.device.raw.wait_for_fences(&[slot.fence], true, u64::MAX) }.call("vkWaitForFences")?;
         if slot.submitted {
@@ -198,7 +198,7 @@ impl FrameRing {
     }
 
     /// The timings a `begin` harvested since the last call, once each.
-    pub fn take_fresh_timings(&mut self) -> Option<(u64, &PassTimings)> {
+    pub fn take_fresh_timings(&mut self) -> Option<(u64, &PassTimings<P>)> {
         if std::mem::take(&mut self.fresh) {
             self.last_timings()
         } else {
@@ -207,12 +207,12 @@ impl FrameRing {
     }
 
     /// Timings of the newest frame the GPU has finished, and that frame's number.
-    pub fn last_timings(&self) -> Option<(u64, &PassTimings)> {
+    pub fn last_timings(&self) -> Option<(u64, &PassTimings<P>)> {
         self.last_timed_frame.map(|f| (f, &self.last_timings))
     }
 }
 
-impl Drop for FrameRing {
+impl<P> Drop for FrameRing<P> {
     fn drop(&mut self) {
         unsafe {
             let _ = self.device.raw.device_wait_idle();

@@ -4,22 +4,41 @@
 //! timestamp before and after the pass, so the names in the timing table, in validation
 //! messages and in GPU debuggers are the same. Each frame in flight owns its own query pool;
 //! results are read only after that frame's fence has signalled, so reading never stalls.
+//!
+//! The backend knows no pass of the method: a timed pass is anything with a label
+//! ([`TimedPass`]); the method's `passes::PassId` is one, and `frame::PassTimings` the table
+//! of its times.
 
 use super::device::Device;
 use crate::error::{Result, VkResultExt};
-use crate::passes::PassId;
 use ash::vk;
+use std::ffi::CStr;
 use std::fmt;
 use std::sync::Arc;
 
-/// GPU milliseconds per pass of one frame, in recording order.
-#[derive(Clone, Debug, Default)]
-pub struct PassTimings {
-    pub passes: Vec<(PassId, f64)>,
+/// What a timed pass is called: its debug label, which is also its name in the timing table
+/// and in validation messages.
+pub trait TimedPass: Copy + Eq + Ord + fmt::Debug + 'static {
+    fn label(self) -> &'static CStr;
+    fn name(self) -> &'static str {
+        self.label().to_str().unwrap_or("?")
+    }
 }
 
-impl PassTimings {
-    pub fn get(&self, id: PassId) -> Option<f64> {
+/// GPU milliseconds per pass of one frame, in recording order.
+#[derive(Clone, Debug)]
+pub struct PassTimings<P> {
+    pub passes: Vec<(P, f64)>,
+}
+
+impl<P> Default for PassTimings<P> {
+    fn default() -> Self {
+        Self { passes: Vec::new() }
+    }
+}
+
+impl<P: TimedPass> PassTimings<P> {
+    pub fn get(&self, id: P) -> Option<f64> {
         self.passes.iter().find(|(p, _)| *p == id).map(|(_, ms)| *ms)
     }
 
@@ -29,7 +48,7 @@ impl PassTimings {
     }
 }
 
-impl fmt::Display for PassTimings {
+impl<P: TimedPass> fmt::Display for PassTimings<P> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(f, "{:<12} {:>10}", "pass", "GPU ms")?;
         for (id, ms) in &self.passes {
@@ -40,11 +59,11 @@ impl fmt::Display for PassTimings {
 }
 
 /// The timestamp query pool of one frame in flight.
-pub struct PassTimer {
+pub struct PassTimer<P> {
     pool: vk::QueryPool,
     capacity_passes: u32,
     /// Passes recorded into the current frame, in order; query 2i / 2i+1 are pass i's ends.
-    recorded: Vec<PassId>,
+    recorded: Vec<P>,
     /// Reused read-back storage: (value, availability) per query.
     results: Vec<[u64; 2]>,
     valid_mask: u64,
@@ -52,7 +71,7 @@ pub struct PassTimer {
     device: Arc<Device>,
 }
 
-impl PassTimer {
+impl<P: TimedPass> PassTimer<P> {
     pub fn new(device: &Arc<Device>, name: &str, capacity_passes: u32) -> Result<Self> {
         let info =
             vk::QueryPoolCreateInfo::default().query_type(vk::QueryType::TIMESTAMP).query_count(capacity_passes * 2);
@@ -80,7 +99,7 @@ impl PassTimer {
     ///
     /// Panics if more passes are recorded in one frame than the pool was made for: a
     /// programming error, not an input error.
-    pub fn pass<R>(&mut self, cmd: vk::CommandBuffer, id: PassId, record: impl FnOnce(vk::CommandBuffer) -> R) -> R {
+    pub fn pass<R>(&mut self, cmd: vk::CommandBuffer, id: P, record: impl FnOnce(vk::CommandBuffer) -> R) -> R {
         let index = self.recorded.len() as u32;
         assert!(index < self.capacity_passes, "more than {} timed passes in one frame", self.capacity_passes);
         self.recorded.push(id);
@@ -100,7 +119,7 @@ impl PassTimer {
     /// Reads the frame's timings into `out`. Call only after the frame's fence signalled.
     /// Returns false (leaving `out` untouched) when the frame recorded no pass or a result is
     /// not available.
-    pub fn read(&mut self, out: &mut PassTimings) -> Result<bool> {
+    pub fn read(&mut self, out: &mut PassTimings<P>) -> Result<bool> {
         let n = self.recorded.len();
         if n == 0 {
             return Ok(false);
@@ -128,7 +147,7 @@ impl PassTimer {
     }
 }
 
-impl Drop for PassTimer {
+impl<P> Drop for PassTimer<P> {
     fn drop(&mut self) {
         unsafe { self.device.raw.destroy_query_pool(self.pool, None) };
     }
