@@ -1,11 +1,10 @@
 //! The frame: which passes run for a scene, in order, and their recording.
 //!
-//! `FramePlan` derives the passes from the scene (model only what the scene requires);
-//! `Frame` creates exactly those passes and targets, and records them through the timing
-//! wrapper in method order: shadow → scene → caustics → godrays → filter → compose with the
-//! camera under the water; shadow → refraction → caustics → godrays → filter → reflection →
-//! scene → compose in frames where it can see the surface from above (the photons are
-//! splatted into the view the surface refracts, and the surface reads them).
+//! `FramePlan` derives the passes from the scene (model only what the scene requires) and
+//! their recording order (`FramePlan::schedule`, from `UNDER_WATER_ORDER` and
+//! `FROM_ABOVE_ORDER` below: the one place the order is written). `Frame` creates exactly
+//! those passes and targets, and `Frame::record` is one loop over the schedule, each pass
+//! through the timing wrapper.
 
 pub mod mesh;
 pub mod uniforms;
@@ -74,11 +73,36 @@ pub mod bindings {
 /// Which passes a scene needs, and why each is in or out.
 #[derive(Clone, Debug)]
 pub struct FramePlan {
-    /// Passes that run, in order.
+    /// The passes a frame of the scene's own camera records, in recording order: what
+    /// `--explain`, the timing table and the benches list.
     pub passes: Vec<PassId>,
-    /// Every pass of the method with whether it runs and the reason.
+    /// Every pass of the method with whether it is created and the reason.
     pub decisions: Vec<(PassId, bool, String)>,
+    /// The recording order for a camera under the lowest trough, and (when the passes for the
+    /// surface seen from above exist) for a camera above it (`FramePlan::schedule`).
+    under_water: Vec<PassId>,
+    from_above: Option<Vec<PassId>>,
 }
+
+/// The frame's passes in recording order, for a camera under the water and for one that
+/// sees the surface from above. This is the one place the order is written.
+///
+/// Under the water the scene pass comes first: the photons are tested against its depth and
+/// compose reads everything. From above, the photons are splatted into the refraction pass's
+/// view (the underwater part the surface refracts), then the reflection pass draws the part
+/// above the water, and only then the scene pass, whose water surface reads all of them.
+const UNDER_WATER_ORDER: [PassId; 6] =
+    [PassId::Shadow, PassId::Scene, PassId::Caustics, PassId::Godrays, PassId::Filter, PassId::Compose];
+const FROM_ABOVE_ORDER: [PassId; 8] = [
+    PassId::Shadow,
+    PassId::Refraction,
+    PassId::Caustics,
+    PassId::Godrays,
+    PassId::Filter,
+    PassId::Reflection,
+    PassId::Scene,
+    PassId::Compose,
+];
 
 /// The camera's lowest point that can see the water from above: under the lowest trough
 /// (by its near distance, as the near plane reaches past the camera) it sees the surface only
@@ -204,20 +228,43 @@ impl FramePlan {
             (PassId::Filter, filter, filter_why),
             (PassId::Compose, true, "the output image".to_string()),
         ];
-        decisions.sort_by_key(|d| d.0);
-        let passes = decisions.iter().filter(|d| d.1).map(|d| d.0).collect();
-        Self { passes, decisions }
+        let created = |id: PassId| decisions.iter().any(|d| d.0 == id && d.1);
+        let under_water: Vec<PassId> = UNDER_WATER_ORDER.into_iter().filter(|&p| created(p)).collect();
+        let from_above: Option<Vec<PassId>> =
+            from_above.then(|| FROM_ABOVE_ORDER.into_iter().filter(|&p| created(p)).collect());
+        // Decisions in the order of the fullest schedule, so --explain reads top to bottom.
+        decisions.sort_by_key(|d| FROM_ABOVE_ORDER.iter().position(|p| *p == d.0));
+        let own_camera_above = from_above.is_some() && camera_sees_surface_from_above(scene);
+        let passes = if own_camera_above { from_above.clone().unwrap_or_default() } else { under_water.clone() };
+        Self { passes, decisions, under_water, from_above }
     }
 
+    /// Whether the frame creates this pass (it may record it only in some frames: the
+    /// surface passes with a moving camera).
     pub fn runs(&self, id: PassId) -> bool {
-        self.passes.contains(&id)
+        self.under_water.contains(&id) || self.from_above.as_ref().is_some_and(|p| p.contains(&id))
+    }
+
+    /// The passes a frame records, in order, for a camera that does or does not see the
+    /// surface from above (`camera_sees_surface_from_above`). Borrowed: no per-frame
+    /// allocation.
+    pub fn schedule(&self, camera_above: bool) -> &[PassId] {
+        match (&self.from_above, camera_above) {
+            (Some(above), true) => above,
+            _ => &self.under_water,
+        }
     }
 }
 
 impl fmt::Display for FramePlan {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let names = |list: &[PassId]| list.iter().map(|p| p.name()).collect::<Vec<_>>().join(" → ");
+        writeln!(f, "records, camera under the water: {}", names(&self.under_water))?;
+        if let Some(above) = &self.from_above {
+            writeln!(f, "records, camera above the water: {}", names(above))?;
+        }
         for (id, runs, why) in &self.decisions {
-            writeln!(f, "{:<9} {:<4} {}", id.name(), if *runs { "run" } else { "skip" }, why)?;
+            writeln!(f, "{:<10} {:<4} {}", id.name(), if *runs { "run" } else { "skip" }, why)?;
         }
         Ok(())
     }
@@ -551,11 +598,8 @@ impl Frame {
     }
 
     /// Writes this frame's uniforms (the slot's fence has signalled, so its buffer is free)
-    /// and records the passes through the slot's timer.
-    ///
-    /// With the camera able to see the surface from above (and the passes for it), the
-    /// photons go into the refraction view before the scene pass, whose surface reads them;
-    /// otherwise the scene pass comes first and the photons are tested against its depth.
+    /// and records the plan's schedule for where the camera is, each pass through the slot's
+    /// timer.
     pub fn record(&mut self, slot: &mut FrameSlot, time: f32) {
         let through_surface = self.refraction.is_some() && camera_sees_surface_from_above(&self.scene);
         let mut u = FrameUniforms::new(&self.scene, self.bounds, &self.extents, time);
@@ -576,33 +620,32 @@ impl Frame {
             Background::Draw
         };
         let (i, cmd) = (slot.index, slot.cmd);
-        if let Some(shadow) = &self.shadow {
-            slot.timer.pass(cmd, PassId::Shadow, |cmd| shadow.record(cmd, i, &self.meshes));
-        }
-        let refraction = self.refraction.as_ref().filter(|_| through_surface);
-        if let Some(refraction) = refraction {
-            slot.timer.pass(cmd, PassId::Refraction, |cmd| refraction.record(cmd, i, &self.meshes));
-        } else {
-            slot.timer.pass(cmd, PassId::Scene, |cmd| self.scene_pass.record(cmd, i, &self.meshes, background));
-        }
         let photon_set = photon_set_index(i, through_surface);
-        if let Some(caustics) = &self.caustics {
-            slot.timer.pass(cmd, PassId::Caustics, |cmd| caustics.record(cmd, photon_set));
+        for &id in self.plan.schedule(through_surface) {
+            slot.timer.pass(cmd, id, |cmd| self.record_pass(id, cmd, i, photon_set, background));
         }
-        if let Some(godrays) = &self.godrays {
-            slot.timer.pass(cmd, PassId::Godrays, |cmd| godrays.record(cmd, photon_set));
-        }
-        if self.caustic_filter.is_some() || self.godray_filter.is_some() {
-            slot.timer.pass(cmd, PassId::Filter, |cmd| {
+    }
+
+    /// Records one pass of the schedule. `i`: the frame in flight; `photon_set`: the photon
+    /// passes' descriptor set (which depth their splats are tested against).
+    fn record_pass(&self, id: PassId, cmd: vk::CommandBuffer, i: usize, photon_set: usize, background: Background) {
+        let planned = "FramePlan::schedule lists only passes the frame created";
+        match id {
+            PassId::Shadow => self.shadow.as_ref().expect(planned).record(cmd, i, &self.meshes),
+            PassId::Refraction => self.refraction.as_ref().expect(planned).record(cmd, i, &self.meshes),
+            PassId::Reflection => self.reflection.as_ref().expect(planned).record(cmd, i, &self.meshes),
+            PassId::Scene => self.scene_pass.record(cmd, i, &self.meshes, background),
+            PassId::Caustics => self.caustics.as_ref().expect(planned).record(cmd, photon_set),
+            PassId::Godrays => self.godrays.as_ref().expect(planned).record(cmd, photon_set),
+            PassId::Filter => {
                 for f in self.caustic_filter.iter().chain(&self.godray_filter) {
                     f.record(cmd, i);
                 }
-            });
+            }
+            PassId::Compose => self.compose.record(cmd, i),
+            PassId::GridSplat | PassId::Readback | PassId::Present => {
+                unreachable!("{id} is not a pass of the method's frame")
+            }
         }
-        if let (Some(_), Some(reflection)) = (refraction, &self.reflection) {
-            slot.timer.pass(cmd, PassId::Reflection, |cmd| reflection.record(cmd, i, &self.meshes));
-            slot.timer.pass(cmd, PassId::Scene, |cmd| self.scene_pass.record(cmd, i, &self.meshes, background));
-        }
-        slot.timer.pass(cmd, PassId::Compose, |cmd| self.compose.record(cmd, i));
     }
 }

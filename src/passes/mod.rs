@@ -85,7 +85,8 @@ impl PhotonPath {
     }
 }
 
-/// Every pass underlight can record, in frame order.
+/// Every pass underlight can record. The order the method's frame records them in is
+/// `frame::FramePlan::schedule`'s, not this enum's.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum PassId {
     Shadow,
