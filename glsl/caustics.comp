@@ -18,7 +18,7 @@ void main() {
     CausticSplat splat;
     vec2 uv = photon_index_uv(index, SUBDIVISION, pc.grid);
     if (!cast_photon(uv, float(pc.grid * SUBDIVISION), ph) || !caustic_splat(ph, splat)) return;
-    vec2 size = frame.effect2.zw;
+    vec2 size = frame.caustic_target_size;
     // Window position as the viewport transform gives it; a point of side s covers the
     // pixel centres c with centre − s/2 ≤ c < centre + s/2 on each axis.
     vec2 centre = (splat.clip.xy / splat.clip.w * 0.5 + 0.5) * size;

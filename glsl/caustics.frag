@@ -7,6 +7,6 @@ layout(location = 1) flat in float g_view_depth;
 layout(location = 0) out vec4 out_irradiance;
 
 void main() {
-    if (behind_scene(gl_FragCoord.xy, frame.effect2.zw, g_view_depth, CAUSTIC_DEPTH_TOLERANCE)) discard;
+    if (behind_scene(gl_FragCoord.xy, frame.caustic_target_size, g_view_depth, CAUSTIC_DEPTH_TOLERANCE)) discard;
     out_irradiance = g_irradiance;
 }

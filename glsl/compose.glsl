@@ -37,13 +37,13 @@ void main() {
     vec4 scene = texture(scene_color, v_uv);
     vec3 L = scene.rgb;
 #ifdef HAS_CAUSTICS
-    L += texture(albedo_transmittance, v_uv).rgb * texture(caustics, v_uv).rgb * frame.light_flux.x;
+    L += texture(albedo_transmittance, v_uv).rgb * texture(caustics, v_uv).rgb * frame.surface_irradiance;
 #endif
 #ifdef HAS_GODRAYS
     // The medium scatters only where the pixel's ray starts under water; where it starts in
     // the air, the surface already added the godrays it refracts (water.glsl).
     if (view_ray_starts_under(pixel_ray(v_uv))) {
-        L += texture(godrays, v_uv).rgb * frame.light_flux.x; // stored relative to E_surface too
+        L += texture(godrays, v_uv).rgb * frame.surface_irradiance; // stored relative to E_surface too
     }
 #endif
     if (GLOW) {
@@ -51,5 +51,5 @@ void main() {
     }
     // 1 − e^(−exposure·L): linear in the shadows, rolls highlights off. The target is sRGB,
     // so the hardware encodes.
-    out_color = vec4(1.0 - exp(-frame.water3.w * max(L, vec3(0.0))), 1.0);
+    out_color = vec4(1.0 - exp(-frame.exposure * max(L, vec3(0.0))), 1.0);
 }

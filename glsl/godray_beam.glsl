@@ -12,18 +12,18 @@
 // entered the water, m; direction: the beam's unit direction; flux: W after the surface;
 // view_depth: distance along the camera axis, m. Returns L / E_surface (the buffer's unit).
 vec3 beam_radiance(vec3 world, float from_surface, vec3 direction, float flux, float view_depth) {
-    vec3 cam = frame.camera_pos.xyz;
+    vec3 cam = frame.camera_position;
     vec3 to_cam = cam - world;
     float d = length(to_cam);
     float cos_t = dot(direction, to_cam / max(d, 1e-6));
     float sin_t = sqrt(max(1.0 - cos_t * cos_t, 0.0));
-    float line_w = clamp(frame.effect0.z, 1.0, frame.effect2.y);
-    float l_pix = view_depth * 2.0 * frame.camera_params.z / frame.effect3.y;
+    float line_w = clamp(frame.line_width, 1.0, frame.device_max_line_width);
+    float l_pix = view_depth * 2.0 * frame.tan_half_fov_y / frame.godray_target_size.y;
     float d_view_water = view_underwater_length(world);
-    vec3 attenuation = exp(-frame.gamma.rgb * (from_surface + d_view_water));
+    vec3 attenuation = exp(-frame.attenuation * (from_surface + d_view_water));
     // sin θ is clamped: a beam seen end-on would otherwise concentrate into one pixel.
-    vec3 L = frame.gamma.w * henyey_greenstein(cos_t, frame.effect0.w) * flux * attenuation
+    vec3 L = frame.scattering * henyey_greenstein(cos_t, frame.hg_g) * flux * attenuation
            / (max(sin_t, 0.1) * line_w * l_pix);
-    return L / frame.light_flux.x;
+    return L / frame.surface_irradiance;
 }
 #endif

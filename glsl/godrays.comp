@@ -35,14 +35,14 @@ void main() {
     vec3 wa = mix(ph.surface, ph.hit, s0), wb = mix(ph.surface, ph.hit, s1);
     float ta = s0 * ph.travelled, tb = s1 * ph.travelled;
 
-    vec2 size = frame.effect3.xy;
+    vec2 size = frame.godray_target_size;
     vec2 pa = (ca.xy / ca.w * 0.5 + 0.5) * size;
     vec2 pb = (cb.xy / cb.w * 0.5 + 0.5) * size;
     vec2 d = pb - pa;
     float len = length(d);
     if (!(len > 1e-6)) return; // a beam seen end-on: a zero-area rectangle
     vec2 dir = d / len, nrm = vec2(-dir.y, dir.x);
-    float half_w = 0.5 * clamp(frame.effect0.z, 1.0, frame.effect2.y);
+    float half_w = 0.5 * clamp(frame.line_width, 1.0, frame.device_max_line_width);
 
     // Walk the major axis one pixel column at a time; in each, the rectangle's four
     // half-planes g·p ≤ c bound the minor coordinate to an interval.

@@ -10,7 +10,7 @@ layout(location = 0) out vec4 out_radiance;
 
 void main() {
     float view_depth = 1.0 / gl_FragCoord.w;
-    if (behind_scene(gl_FragCoord.xy, frame.effect3.xy, view_depth, GODRAY_DEPTH_TOLERANCE)) discard;
+    if (behind_scene(gl_FragCoord.xy, frame.godray_target_size, view_depth, GODRAY_DEPTH_TOLERANCE)) discard;
     vec3 L = beam_radiance(g_world_travelled.xyz, g_world_travelled.w, g_beam.xyz, g_beam.w, view_depth);
     out_radiance = vec4(L, 1.0);
 }

@@ -29,7 +29,7 @@ void main() {
             vec4 b = frame.camera_view_proj * vec4(ph.hit, 1.0);
             // Lines crossing the camera plane would need clipping against it in world space;
             // the rasteriser clips lines properly, so only drop lines entirely behind.
-            if (a.w <= frame.camera_params.x && b.w <= frame.camera_params.x) continue;
+            if (a.w <= frame.z_near && b.w <= frame.z_near) continue;
             g_beam = vec4(ph.direction, ph.flux);
             gl_Position = a;
             g_world_travelled = vec4(ph.surface, 0.0);

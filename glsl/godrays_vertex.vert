@@ -18,7 +18,7 @@ void main() {
     bool landed = cast_photon(uv, float(pc.grid * SUBDIVISION), ph);
     vec4 a = frame.camera_view_proj * vec4(ph.surface, 1.0);
     vec4 b = frame.camera_view_proj * vec4(ph.hit, 1.0);
-    if (!landed || (a.w <= frame.camera_params.x && b.w <= frame.camera_params.x)) {
+    if (!landed || (a.w <= frame.z_near && b.w <= frame.z_near)) {
         // Dropped: both ends outside the depth range, so the clipper removes the line.
         gl_Position = vec4(0.0, 0.0, -1.0, 1.0);
         g_world_travelled = vec4(0.0);

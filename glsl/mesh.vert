@@ -21,15 +21,15 @@ void main() {
     v_world = in_position;
     v_normal = in_normal;
     v_albedo = in_albedo;
-    float bound = abs(frame.water0.y) + abs(frame.water1.x);
+    float bound = abs(frame.wave_amplitude) + abs(frame.noise_amplitude);
     vec3 p = in_position;
     // The planes sit at the waves' extremes, not the mean level, so no receiver the surface
     // can show is cut away (a sliver of the other side shows instead, at the waves' scale).
     if (VIEW == VIEW_REFRACTION) {
-        gl_ClipDistance[0] = frame.water0.x + bound - p.y;
+        gl_ClipDistance[0] = frame.water_level + bound - p.y;
     } else if (VIEW == VIEW_REFLECTION) {
-        gl_ClipDistance[0] = p.y - (frame.water0.x - bound);
-        p.y = 2.0 * frame.water0.x - p.y;
+        gl_ClipDistance[0] = p.y - (frame.water_level - bound);
+        p.y = 2.0 * frame.water_level - p.y;
     } else {
         gl_ClipDistance[0] = 1.0;
     }

@@ -26,7 +26,7 @@ bool light_texel(vec3 p, out ivec2 texel) {
     if (c.w <= 0.0) return false;
     vec2 uv = c.xy / c.w * 0.5 + 0.5;
     if (any(lessThan(uv, vec2(0.0))) || any(greaterThanEqual(uv, vec2(1.0)))) return false;
-    texel = ivec2(uv * frame.effect1.w);
+    texel = ivec2(uv * frame.light_map_size);
     return true;
 }
 
@@ -38,8 +38,8 @@ bool light_texel(vec3 p, out ivec2 texel) {
 // iteration can only place the hit somewhere inside it. (Measuring the plain distance to
 // the stored point rejected most correct hits below a 15° sun.)
 bool converged(vec3 hit, vec3 receiver, vec3 receiver_normal, vec3 light_to_hit, float dist) {
-    float texel_size = 2.0 * max(frame.light_flux.z, frame.light_flux.w) / frame.effect1.w
-                     * (frame.light_pos.w > 0.0 ? length(hit - frame.light_pos.xyz) : 1.0);
+    float texel_size = 2.0 * max(frame.light_half_extent.x, frame.light_half_extent.y) / frame.light_map_size
+                     * (frame.light_is_point > 0.0 ? length(hit - frame.light_position) : 1.0);
     float across_allowed = max(3.0 * texel_size, 0.05 * dist);
     vec3 off = hit - receiver;
     float len_n = length(receiver_normal);
@@ -97,7 +97,7 @@ bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
     // Where the map holds nothing straight along the light ray (at a low sun that ray leaves
     // the receivers long before the refracted one would), the guess is the scene's lowest
     // point: exact for a flat floor, and the secant steps correct it for anything above.
-    float bottom = ps.y - frame.light_dir.w;
+    float bottom = ps.y - frame.scene_lowest_y;
     float dist = bottom > 1e-3 ? bottom / max(-rt.y, 1e-3) : 1.0;
     if (light_texel(ps, texel)) {
         vec4 below = texelFetch(light_position, texel, 0);
@@ -106,7 +106,7 @@ bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
     }
     float prev_dist = 0.0, prev_g = 0.0;
     bool have_prev = false;
-    int iterations = int(frame.effect1.z);
+    int iterations = int(frame.iterations);
     for (int i = 0; i < iterations; ++i) {
         // A step that leaves the map or its receivers ends the iteration at the last estimate
         // that had one (the convergence test below judges it): at a grazing sun a texel
@@ -133,7 +133,7 @@ bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
     vec4 r = texelFetch(light_position, texel, 0);
     if (r.w <= 0.0) return false;
     vec3 rn = texelFetch(light_normal, texel, 0).xyz;
-    vec3 to_hit = frame.light_pos.w > 0.0 ? normalize(hit - frame.light_pos.xyz) : frame.light_dir.xyz;
+    vec3 to_hit = frame.light_is_point > 0.0 ? normalize(hit - frame.light_position) : frame.light_axis;
     if (!converged(hit, r.xyz, rn, to_hit, dist)) return false;
     if (hit.y > w.level + abs(w.amplitude) + abs(w.noise_amplitude)) return false;
 
@@ -142,11 +142,11 @@ bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
     // (tangent-plane cell area × cos³ of its angle to the light's axis).
     float n2 = photons_per_axis * photons_per_axis;
     float flux;
-    if (frame.light_pos.w == 0.0) {
-        flux = frame.light_flux.y * 4.0 * frame.light_flux.z * frame.light_flux.w / n2;
+    if (frame.light_is_point == 0.0) {
+        flux = frame.light_strength * 4.0 * frame.light_half_extent.x * frame.light_half_extent.y / n2;
     } else {
-        float c = max(dot(d, frame.light_dir.xyz), 0.0);
-        flux = frame.light_flux.y * 4.0 * frame.light_flux.z * frame.light_flux.w / n2 * c * c * c;
+        float c = max(dot(d, frame.light_axis), 0.0);
+        flux = frame.light_strength * 4.0 * frame.light_half_extent.x * frame.light_half_extent.y / n2 * c * c * c;
     }
     ph.surface = ps;
     ph.direction = rt;

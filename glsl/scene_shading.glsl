@@ -22,15 +22,15 @@ layout(location = 1) out vec4 out_albedo_transmittance;
 
 void main() {
     vec3 n = normalize(v_normal);
-    vec3 viewer = frame.camera_pos.xyz;
-    if (VIEW == VIEW_REFLECTION) viewer.y = 2.0 * frame.water0.x - viewer.y;
+    vec3 viewer = frame.camera_position;
+    if (VIEW == VIEW_REFLECTION) viewer.y = 2.0 * frame.water_level - viewer.y;
     // Two-sided: light the side facing the viewer.
     if (dot(n, viewer - v_world) < 0.0) n = -n;
     vec3 brdf = v_albedo / PI;
     vec3 E = ambient_irradiance(v_world, n);
-    bool under = v_world.y < frame.water0.x;
-    if (!under && frame.light_pos.w == 0.0) {
-        E += frame.light_flux.y * max(dot(n, -frame.light_dir.xyz), 0.0);
+    bool under = v_world.y < frame.water_level;
+    if (!under && frame.light_is_point == 0.0) {
+        E += frame.light_strength * max(dot(n, -frame.light_axis), 0.0);
     }
     if (VIEW == VIEW_CAMERA) {
         out_color = vec4(through_water(brdf * E, v_world), 0.0);
@@ -40,6 +40,6 @@ void main() {
 #ifndef COLOR_ONLY
     // The refraction view leaves the water on the way to the camera to the surface.
     float d = VIEW == VIEW_CAMERA ? view_underwater_length(v_world) : 0.0;
-    out_albedo_transmittance = under ? vec4(brdf * exp(-frame.gamma.rgb * d), 0.0) : vec4(0.0);
+    out_albedo_transmittance = under ? vec4(brdf * exp(-frame.attenuation * d), 0.0) : vec4(0.0);
 #endif
 }

@@ -47,7 +47,7 @@ vec2 camera_uv(vec3 p) {
 
 // The receiver the refraction view shows on the camera ray through p.
 vec3 underwater_point_behind(vec3 p) {
-    vec3 cam = frame.camera_pos.xyz;
+    vec3 cam = frame.camera_position;
     vec3 fwd = camera_forward();
     vec2 uv = clamp(camera_uv(p), vec2(0.0), vec2(1.0));
     float z = linear_view_depth(textureLod(refraction_depth, uv, 0.0).r);
@@ -60,7 +60,7 @@ vec3 underwater_point_behind(vec3 p) {
 // not, w moved along the ray by its gap to a_next (down if w is in front of it, else back up).
 // Returns the receiver of the estimate with the smallest gap.
 vec3 refracted_hit(vec3 u, vec3 r) {
-    vec3 cam = frame.camera_pos.xyz;
+    vec3 cam = frame.camera_position;
     vec3 fwd = camera_forward();
     vec3 w = u, a = u, best_a = u;
     float best_gap = 1e30;
@@ -119,12 +119,12 @@ vec3 refracted_radiance(vec3 u, vec3 r) {
     vec3 a = underwater_point_at(uv);
     vec3 C = textureLod(refraction_color, uv, 0.0).rgb;
 #ifdef HAS_CAUSTICS
-    C += textureLod(refraction_albedo, uv, 0.0).rgb * textureLod(caustics, uv, 0.0).rgb * frame.light_flux.x;
+    C += textureLod(refraction_albedo, uv, 0.0).rgb * textureLod(caustics, uv, 0.0).rgb * frame.surface_irradiance;
 #endif
     vec3 L = through_water_length(C, distance(a, u));
 #ifdef HAS_GODRAYS
     // The godray buffer holds what the medium scatters along the camera ray to that receiver.
-    L += textureLod(godrays, uv, 0.0).rgb * frame.light_flux.x;
+    L += textureLod(godrays, uv, 0.0).rgb * frame.surface_irradiance;
 #endif
     return L;
 }
@@ -133,7 +133,7 @@ vec3 refracted_radiance(vec3 u, vec3 r) {
 // mirrored scene, the sky where it shows nothing.
 vec3 reflected_radiance(vec3 u, vec3 r) {
     vec3 p = u + REFLECTION_REACH * r;
-    p.y = 2.0 * frame.water0.x - p.y;
+    p.y = 2.0 * frame.water_level - p.y;
     vec4 m = textureLod(reflection_color, camera_uv(p), 0.0);
     return mix(sky_radiance(r), m.rgb, m.a);
 }
@@ -141,15 +141,15 @@ vec3 reflected_radiance(vec3 u, vec3 r) {
 // The sun's (or point light's) highlight: a normalised Phong lobe, so it carries the light's
 // reflected irradiance E·F spread over the lobe rather than a 0.5° disc a pixel can miss.
 vec3 specular_highlight(vec3 u, vec3 r, float fresnel) {
-    vec3 to_light = frame.light_pos.w == 0.0 ? -frame.light_dir.xyz : normalize(frame.light_pos.xyz - u);
-    float dist2 = frame.light_pos.w == 0.0 ? 1.0 : max(dot(frame.light_pos.xyz - u, frame.light_pos.xyz - u), 1e-4);
-    if (frame.light_pos.w != 0.0 && frame.light_pos.y < u.y) return vec3(0.0);
+    vec3 to_light = frame.light_is_point == 0.0 ? -frame.light_axis : normalize(frame.light_position - u);
+    float dist2 = frame.light_is_point == 0.0 ? 1.0 : max(dot(frame.light_position - u, frame.light_position - u), 1e-4);
+    if (frame.light_is_point != 0.0 && frame.light_position.y < u.y) return vec3(0.0);
     float lobe = (HIGHLIGHT_EXPONENT + 2.0) / (2.0 * PI) * pow(max(dot(r, to_light), 0.0), HIGHLIGHT_EXPONENT);
-    return vec3(fresnel * frame.light_flux.y / dist2 * lobe);
+    return vec3(fresnel * frame.light_strength / dist2 * lobe);
 }
 
 void shade_from_above(vec3 u, vec3 n, vec3 v) {
-    float ior = frame.water1.z;
+    float ior = frame.ior;
     float cos_v = max(dot(-v, n), 0.0);
     float fresnel = 1.0 - fresnel_transmittance(cos_v, ior);
     vec3 r = reflect(v, n);
@@ -164,7 +164,7 @@ void shade_from_above(vec3 u, vec3 n, vec3 v) {
 #endif
 
 void shade_from_below(vec3 u, vec3 n, vec3 v) {
-    float ior = frame.water1.z;
+    float ior = frame.ior;
     // Looking up from inside the water: refract into air (index ior → 1).
     vec3 t = refract(v, -n, ior);
     vec3 L;
@@ -175,19 +175,19 @@ void shade_from_below(vec3 u, vec3 n, vec3 v) {
         vec3 sky = sky_radiance(normalize(t)) + sun_disc_radiance(normalize(t));
         L = tr * sky + (1.0 - tr) * water_fog_radiance();
     }
-    out_color = vec4(through_water_length(L, distance(frame.camera_pos.xyz, u)), 0.0);
+    out_color = vec4(through_water_length(L, distance(frame.camera_position, u)), 0.0);
     out_albedo_transmittance = vec4(0.0);
 }
 
 void main() {
     vec3 n = normalize(v_normal);
     vec3 u = v_world;
-    vec3 v = normalize(u - frame.camera_pos.xyz);
+    vec3 v = normalize(u - frame.camera_position);
     // The side is the rasterised facet's (its normal oriented up), so it matches the geometry
     // the depth test saw, whatever the triangle's winding on screen.
     vec3 facet = cross(dFdx(v_world), dFdy(v_world));
     if (facet.y < 0.0) facet = -facet;
-    bool from_above = dot(frame.camera_pos.xyz - u, facet) > 0.0;
+    bool from_above = dot(frame.camera_position - u, facet) > 0.0;
 #ifdef THROUGH_SURFACE
     // Only in frames that rendered the views it reads (frame_surface_views_ready): a camera
     // under the troughs can still be on the upper side of a steep facet's plane far away.

@@ -293,7 +293,7 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
             }
         };
         let uniforms = FrameUniforms::new(scene, scene.bounds(), &extents, spec.time);
-        let exposure = uniforms.water3[3];
+        let exposure = uniforms.exposure;
         let composed = |c: Option<&HdrImage>, g: Option<&HdrImage>| {
             compose_srgb8(&images.scene_color, &images.albedo_transmittance, c, g, exposure)
         };

@@ -4,6 +4,7 @@
 //! - [`vk`]: the backend, one module per Vulkan concept.
 //! - [`passes`]: the frame's passes, one module each, named by [`passes::PassId`].
 //! - [`shaders`]: GLSL → committed SPIR-V, embedded at build time.
+//! - [`shader_abi`]: the interface with the shaders (parameter block, binding numbers).
 //! - [`shader_math`]: the Rust twin of the shared GLSL math.
 //! - [`headless`], [`image_io`]: off-screen rendering and its files.
 //! - [`reference`], [`metrics`]: the CPU reference and the GPU frame's error against it.
@@ -23,6 +24,7 @@ pub mod metrics;
 pub mod passes;
 pub mod reference;
 pub mod scene;
+pub mod shader_abi;
 pub mod shader_math;
 pub mod shaders;
 pub mod viewer;

@@ -368,7 +368,7 @@ pub fn converged(
 /// receiver maps as read back from the shadow pass: positions (RGBA32F, w = 1 where a
 /// receiver) and normals (xyz, zero where none).
 pub struct PhotonCaster<'a> {
-    pub uniforms: &'a crate::frame::uniforms::FrameUniforms,
+    pub uniforms: &'a crate::shader_abi::FrameUniforms,
     pub noise: &'a NoiseTexture,
     pub light_map: &'a crate::image_io::HdrImage,
     pub light_normals: &'a crate::image_io::HdrImage,
@@ -378,17 +378,17 @@ impl PhotonCaster<'_> {
     fn water(&self) -> WaterParams {
         let u = self.uniforms;
         WaterParams {
-            model: WaterModel::from_glsl_id(u.water1[3] as i32),
-            level: u.water0[0],
-            amplitude: u.water0[1],
-            wavelength: u.water0[2],
-            speed: u.water0[3],
-            noise_amplitude: u.water1[0],
-            noise_scale: u.water1[1],
-            ior: u.water1[2],
-            center: Vec2::new(u.water2[0], u.water2[1]),
-            extent_min: Vec2::new(u.water2[2], u.water2[3]),
-            extent_max: Vec2::new(u.water3[0], u.water3[1]),
+            model: WaterModel::from_glsl_id(u.water_model as i32),
+            level: u.water_level,
+            amplitude: u.wave_amplitude,
+            wavelength: u.wavelength,
+            speed: u.wave_speed,
+            noise_amplitude: u.noise_amplitude,
+            noise_scale: u.noise_scale,
+            ior: u.ior,
+            center: Vec2::from_array(u.wave_center),
+            extent_min: Vec2::from_array(u.water_extent_min),
+            extent_max: Vec2::from_array(u.water_extent_max),
         }
     }
 
@@ -402,7 +402,7 @@ impl PhotonCaster<'_> {
         if uv.x < 0.0 || uv.y < 0.0 || uv.x >= 1.0 || uv.y >= 1.0 {
             return None;
         }
-        let size = self.uniforms.effect1[3];
+        let size = self.uniforms.light_map_size;
         Some(((uv.x * size) as u32, (uv.y * size) as u32))
     }
 
@@ -421,7 +421,7 @@ impl PhotonCaster<'_> {
         let o = a.truncate() / a.w;
         let d = (b.truncate() / b.w - o).normalize();
         let w = self.water();
-        let time = u.camera_pos[3];
+        let time = u.time;
         let t = water_intersect(&w, self.noise, o, d, time);
         if !(t > 0.0) {
             return None;
@@ -447,7 +447,7 @@ impl PhotonCaster<'_> {
             return None;
         }
         let rt = rt.normalize();
-        let bottom = ps.y - u.light_dir[3];
+        let bottom = ps.y - u.scene_lowest_y;
         let mut dist = if bottom > 1e-3 { bottom / (-rt.y).max(1e-3) } else { 1.0 };
         if let Some(texel) = self.light_texel(ps) {
             let below = self.receiver(texel);
@@ -461,7 +461,7 @@ impl PhotonCaster<'_> {
             }
         }
         let mut previous: Option<(f32, f32)> = None;
-        for _ in 0..u.effect1[2] as i32 {
+        for _ in 0..u.iterations as i32 {
             let r = self.light_texel(ps + dist * rt).map(|t| self.receiver(t)).unwrap_or([0.0; 4]);
             if r[3] <= 0.0 {
                 // Left the map or its receivers: end at the last estimate that had one.
@@ -485,16 +485,12 @@ impl PhotonCaster<'_> {
         if r[3] <= 0.0 {
             return None;
         }
-        let point = u.light_pos[3] > 0.0;
-        let light_pos = Vec3::new(u.light_pos[0], u.light_pos[1], u.light_pos[2]);
-        let texel_size = 2.0 * u.light_flux[2].max(u.light_flux[3]) / u.effect1[3]
+        let point = u.light_is_point > 0.0;
+        let light_pos = Vec3::from_array(u.light_position);
+        let texel_size = 2.0 * u.light_half_extent[0].max(u.light_half_extent[1]) / u.light_map_size
             * if point { (hit - light_pos).length() } else { 1.0 };
         let normal = self.light_normals.at(texel.0, texel.1);
-        let light_to_hit = if point {
-            (hit - light_pos).normalize()
-        } else {
-            Vec3::new(u.light_dir[0], u.light_dir[1], u.light_dir[2])
-        };
+        let light_to_hit = if point { (hit - light_pos).normalize() } else { Vec3::from_array(u.light_axis) };
         let receiver = Vec3::new(r[0], r[1], r[2]);
         if !converged(hit, receiver, Vec3::new(normal[0], normal[1], normal[2]), light_to_hit, dist, texel_size) {
             return None;
@@ -503,9 +499,9 @@ impl PhotonCaster<'_> {
             return None;
         }
         let n2 = photons_per_axis * photons_per_axis;
-        let mut flux = u.light_flux[1] * 4.0 * u.light_flux[2] * u.light_flux[3] / n2;
+        let mut flux = u.light_strength * 4.0 * u.light_half_extent[0] * u.light_half_extent[1] / n2;
         if point {
-            let c = d.dot(Vec3::new(u.light_dir[0], u.light_dir[1], u.light_dir[2])).max(0.0);
+            let c = d.dot(Vec3::from_array(u.light_axis)).max(0.0);
             flux *= c * c * c;
         }
         let photon = Photon {

@@ -64,6 +64,11 @@ pub fn compile_all(glsl_dir: &Path) -> Result<Vec<CompiledShader>> {
     options.set_source_language(shaderc::SourceLanguage::GLSL);
     options.set_optimization_level(shaderc::OptimizationLevel::Performance);
     options.set_warnings_as_errors();
+    // The frame's binding numbers come from their one definition, shader_abi::bindings, as
+    // BINDING_<NAME> macros (glsl/frame_textures.glsl).
+    for (name, number) in crate::shader_abi::bindings::ALL {
+        options.add_macro_definition(&format!("BINDING_{name}"), Some(&number.to_string()));
+    }
     let include_dir = glsl_dir.to_path_buf();
     options.set_include_callback(move |requested, _kind, requester, _depth| {
         let path = include_dir.join(requested);

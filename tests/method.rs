@@ -340,7 +340,7 @@ fn compare_photons_with_twin(model: WaterModel) {
         PhotonCaster { uniforms: &uniforms, noise: &noise, light_map: &light_map, light_normals: &light_normals };
     let (grid, sub) = (scene.effects.caustic_grid, scene.effects.caustic_subdivision);
     let per_axis = (grid * sub) as f32;
-    let texel = 2.0 * uniforms.light_flux[2].max(uniforms.light_flux[3]) / uniforms.effect1[3];
+    let texel = 2.0 * uniforms.light_half_extent[0].max(uniforms.light_half_extent[1]) / uniforms.light_map_size;
     let (mut both, mut disagree, mut far, mut landed) = (0, 0, 0, 0);
     let mut worst = 0.0f32;
     for cy in 0..grid {

@@ -131,8 +131,8 @@ fn highlight_and_its_glow_follow_their_formulas() {
     // The uniforms the frame used: the light's irradiance and direction, and the exposure.
     let extents = underlight::frame::target_extents(&down, size, 64.0, 64.0);
     let u = underlight::frame::uniforms::FrameUniforms::new(&down, down.bounds(), &extents, RENDER_TIME);
-    let (e_perp, exposure) = (u.light_flux[1], u.water3[3]);
-    let to_sun = -Vec3::from_slice(&u.light_dir[..3]).normalize();
+    let (e_perp, exposure) = (u.light_strength, u.exposure);
+    let to_sun = -Vec3::from_array(u.light_axis).normalize();
     // 1. The highlight (scene colour alpha): F · E⊥ · (n + 2)/(2π) · cos^n of the angle between
     //    the reflected ray and the sun, n = 200.
     let (mut peak, mut worst) = (0f32, 0f32);

@@ -189,9 +189,9 @@ proptest! {
         let per_axis = 24.0f32;
         // The shader's convergence test: the hit lies within 3 texels or 5 % of the distance
         // travelled of the plane of the receiver at its texel (photon.glsl).
-        let texel = 2.0 * u.light_flux[2].max(u.light_flux[3]) / map_size as f32;
+        let texel = 2.0 * u.light_half_extent[0].max(u.light_half_extent[1]) / map_size as f32;
         // The most one photon can carry: E⊥ through its share of the light's window.
-        let share = u.light_flux[1] * 4.0 * u.light_flux[2] * u.light_flux[3] / (per_axis * per_axis);
+        let share = u.light_strength * 4.0 * u.light_half_extent[0] * u.light_half_extent[1] / (per_axis * per_axis);
         for j in 0..24 {
             for i in 0..24 {
                 let uv = (Vec2::new(i as f32, j as f32) + 0.5) / per_axis;

@@ -6,14 +6,16 @@
 //! those passes and targets, and `Frame::record` is one loop over the schedule, each pass
 //! through the timing wrapper.
 
-pub mod mesh;
 pub mod uniforms;
+
+pub use crate::shader_abi::bindings;
 
 use crate::error::Result;
 use crate::passes::caustics::CausticsPass;
 use crate::passes::compose::ComposePass;
 use crate::passes::filter::FilterPass;
 use crate::passes::godrays::GodraysPass;
+use crate::passes::mesh::GpuMeshes;
 use crate::passes::reflection::ReflectionPass;
 use crate::passes::refraction::RefractionPass;
 use crate::passes::scene::{Background, ScenePass, SurfaceInputs};
@@ -31,7 +33,6 @@ use crate::vk::sampler::Sampler;
 use crate::vk::upload::{clear_to_sampled, image_with_data};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
-use mesh::GpuMeshes;
 use std::fmt;
 use std::sync::Arc;
 use uniforms::{FrameExtents, FrameUniforms};
@@ -43,32 +44,6 @@ pub type PassTimings = crate::vk::timing::PassTimings<PassId>;
 pub type FrameRing = crate::vk::commands::FrameRing<PassId>;
 /// One frame in flight of that ring.
 pub type FrameSlot = crate::vk::commands::FrameSlot<PassId>;
-
-/// Binding numbers of the frame's descriptor set (`glsl/frame_textures.glsl`).
-pub mod bindings {
-    pub const UNIFORMS: u32 = 0;
-    pub const NOISE: u32 = 1;
-    pub const LIGHT_POSITION: u32 = 2;
-    pub const LIGHT_NORMAL: u32 = 3;
-    pub const SCENE_DEPTH: u32 = 4;
-    pub const SCENE_COLOR: u32 = 5;
-    pub const ALBEDO_TRANSMITTANCE: u32 = 6;
-    pub const CAUSTICS: u32 = 7;
-    pub const GODRAYS: u32 = 8;
-    /// The unfiltered buffer a filter pass instance reads (each instance has its own set).
-    pub const FILTER_INPUT: u32 = 9;
-    /// The caustics pass's photon records (debug variant only; the pass binds its own buffer).
-    pub const PHOTON_DEBUG: u32 = 10;
-    /// A compute photon path's accumulation buffer (its pass binds its own).
-    pub const PHOTON_ACCUMULATION: u32 = 11;
-    /// The raw splat floor's recorded splats (its pass binds its own).
-    pub const SPLAT_RECORDS: u32 = 12;
-    /// The refraction and reflection passes' targets, which the water surface reads.
-    pub const REFRACTION_COLOR: u32 = 13;
-    pub const REFRACTION_ALBEDO: u32 = 14;
-    pub const REFRACTION_DEPTH: u32 = 15;
-    pub const REFLECTION_COLOR: u32 = 16;
-}
 
 /// Which passes a scene needs, and why each is in or out.
 #[derive(Clone, Debug)]
@@ -603,18 +578,21 @@ impl Frame {
     pub fn record(&mut self, slot: &mut FrameSlot, time: f32) {
         let through_surface = self.refraction.is_some() && camera_sees_surface_from_above(&self.scene);
         let mut u = FrameUniforms::new(&self.scene, self.bounds, &self.extents, time);
-        u.water4[3] = if through_surface { 1.0 } else { 0.0 };
+        u.surface_views_ready = if through_surface { 1.0 } else { 0.0 };
         let c = self.scene.camera.position;
         let hg =
             crate::shader_math::water_height_grad(&self.scene.water, &self.noise_twin, glam::Vec2::new(c.x, c.z), time);
-        u.camera_water = [hg.x, hg.y, hg.z, 0.0];
+        (u.camera_water_height, u.camera_water_gradient) = (hg.x, [hg.y, hg.z]);
         if let Some(bytes) = self.uniforms[slot.index].mapped_mut() {
             bytes.copy_from_slice(bytemuck::bytes_of(&u));
         }
         // Every ray starts under the water when the camera cannot see the surface from above.
         let background = if !camera_sees_surface_from_above(&self.scene) {
-            let fog =
-                crate::shader_math::water_fog_radiance(u.water3[2], glam::Vec3::from_slice(&u.gamma[..3]), u.gamma[3]);
+            let fog = crate::shader_math::water_fog_radiance(
+                u.ambient_irradiance,
+                glam::Vec3::from_array(u.attenuation),
+                u.scattering,
+            );
             Background::Uniform(fog.to_array())
         } else {
             Background::Draw

@@ -10,38 +10,7 @@
 use crate::scene::{LightKind, Scene};
 use glam::{Mat4, Vec3, Vec4};
 
-/// std140 image of `glsl/frame.glsl`'s `FrameUniforms`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct FrameUniforms {
-    pub camera_view_proj: [[f32; 4]; 4],
-    pub light_view_proj: [[f32; 4]; 4],
-    pub light_inv_view_proj: [[f32; 4]; 4],
-    /// Pixel rays: compose and the background find where each starts (above or under water).
-    pub camera_inv_view_proj: [[f32; 4]; 4],
-    pub camera_pos: [f32; 4],
-    pub camera_params: [f32; 4],
-    pub light_pos: [f32; 4],
-    pub light_dir: [f32; 4],
-    pub light_flux: [f32; 4],
-    pub water0: [f32; 4],
-    pub water1: [f32; 4],
-    pub water2: [f32; 4],
-    pub water3: [f32; 4],
-    pub gamma: [f32; 4],
-    pub effect0: [f32; 4],
-    pub effect1: [f32; 4],
-    pub effect2: [f32; 4],
-    pub effect3: [f32; 4],
-    /// The water's phase at this time (`shader_math::water_phase`); w: 1 when the frame
-    /// records the refraction and reflection passes (set by `Frame::record`).
-    pub water4: [f32; 4],
-    /// The surface's height above the level at the camera's xz and its gradient (x, yz):
-    /// the tangent plane the shaders decide each pixel's side of the water against. Set by
-    /// `Frame::record` from the CPU twin; w unused.
-    pub camera_water: [f32; 4],
-}
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 4 * 64 + 16 * 16);
+pub use crate::shader_abi::FrameUniforms;
 
 /// Sizes of the frame's targets and the device limits the shaders clamp to.
 #[derive(Clone, Copy, Debug)]
@@ -275,36 +244,53 @@ impl FrameUniforms {
             light_view_proj: light.view_proj.to_cols_array_2d(),
             light_inv_view_proj: light.view_proj.inverse().to_cols_array_2d(),
             camera_inv_view_proj: (proj * view).inverse().to_cols_array_2d(),
-            camera_pos: [c.position.x, c.position.y, c.position.z, time],
-            camera_params: [c.z_near, c.z_far, (0.5 * c.fov_y_degrees.to_radians()).tan(), aspect],
-            light_pos: [light.position.x, light.position.y, light.position.z, kind],
-            light_dir: [light.axis.x, light.axis.y, light.axis.z, bounds.0.y],
-            light_flux: [surface_irradiance, strength, light.half_extent[0], light.half_extent[1]],
-            water0: [w.level, w.amplitude, w.wavelength, w.speed],
-            water1: [w.noise_amplitude, w.noise_scale, w.ior, model],
-            water2: [w.center.x, w.center.y, w.extent_min.x, w.extent_min.y],
-            water3: [w.extent_max.x, w.extent_max.y, AMBIENT_FRACTION * surface_irradiance, exposure],
-            gamma: [m.gamma.x, m.gamma.y, m.gamma.z, m.scattering],
-            effect0: [e.point_size_min, e.point_size_max, e.line_width, m.hg_g],
-            effect1: [caustic_photons, godray_photons, e.iterations as f32, extents.light_map as f32],
-            effect2: [
-                extents.max_point_size,
-                extents.max_line_width,
-                extents.caustic[0] as f32,
-                extents.caustic[1] as f32,
-            ],
-            effect3: [
-                extents.godray[0] as f32,
-                extents.godray[1] as f32,
-                extents.output[0] as f32,
-                extents.output[1] as f32,
-            ],
-            water4: {
-                let p = crate::shader_math::water_phase(w, time);
-                [p.x, p.y, p.z, 0.0]
-            },
+            camera_position: c.position.to_array(),
+            time,
+            z_near: c.z_near,
+            z_far: c.z_far,
+            tan_half_fov_y: (0.5 * c.fov_y_degrees.to_radians()).tan(),
+            aspect,
+            light_position: light.position.to_array(),
+            light_is_point: kind,
+            light_axis: light.axis.to_array(),
+            scene_lowest_y: bounds.0.y,
+            surface_irradiance,
+            light_strength: strength,
+            light_half_extent: light.half_extent,
+            water_level: w.level,
+            wave_amplitude: w.amplitude,
+            wavelength: w.wavelength,
+            wave_speed: w.speed,
+            noise_amplitude: w.noise_amplitude,
+            noise_scale: w.noise_scale,
+            ior: w.ior,
+            water_model: model,
+            wave_center: w.center.to_array(),
+            water_extent_min: w.extent_min.to_array(),
+            water_extent_max: w.extent_max.to_array(),
+            ambient_irradiance: AMBIENT_FRACTION * surface_irradiance,
+            exposure,
+            attenuation: m.gamma.to_array(),
+            scattering: m.scattering,
+            point_size_min: e.point_size_min,
+            point_size_max: e.point_size_max,
+            line_width: e.line_width,
+            hg_g: m.hg_g,
+            caustic_photons_per_axis: caustic_photons,
+            godray_photons_per_axis: godray_photons,
+            iterations: e.iterations as f32,
+            light_map_size: extents.light_map as f32,
+            device_max_point_size: extents.max_point_size,
+            device_max_line_width: extents.max_line_width,
+            caustic_target_size: extents.caustic.map(|v| v as f32),
+            godray_target_size: extents.godray.map(|v| v as f32),
+            output_size: extents.output.map(|v| v as f32),
+            water_phase: crate::shader_math::water_phase(w, time).to_array(),
+            surface_views_ready: 0.0,
             // Flat until the frame fills it in (it holds the noise's CPU twin).
-            camera_water: [0.0; 4],
+            camera_water_gradient: [0.0; 2],
+            camera_water_height: 0.0,
+            unused: 0.0,
         }
     }
 }

@@ -4,9 +4,9 @@
 //! an RGBA16F target a fraction of the output's size (units: docs/units.md).
 
 use crate::error::{Error, Result};
-use crate::frame::bindings as b;
 use crate::passes::photon_accumulation::{dispatch_per_photon, require_float_atomics, AtomicAccumulation};
 use crate::passes::{require_accumulation_format, PhotonPath, ACCUMULATION_FORMAT, PHOTON_SETS};
+use crate::shader_abi::bindings as b;
 use crate::shader_math::MAX_SUBDIVISION;
 use crate::vk::buffer::Buffer;
 use crate::vk::descriptors::{Binding, DescriptorSets, Resource};

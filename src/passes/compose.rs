@@ -4,7 +4,7 @@
 //! frame has, so a missing effect's target is never bound.
 
 use crate::error::Result;
-use crate::frame::bindings as b;
+use crate::shader_abi::bindings as b;
 use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;

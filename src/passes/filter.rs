@@ -4,7 +4,7 @@
 //! shader's single input binding points at that instance's buffer.
 
 use crate::error::Result;
-use crate::frame::bindings as b;
+use crate::shader_abi::bindings as b;
 use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;

@@ -4,9 +4,9 @@
 //! low-resolution RGBA32F target. Units: docs/units.md.
 
 use crate::error::{Error, Result};
-use crate::frame::bindings as b;
 use crate::passes::photon_accumulation::{dispatch_per_photon, require_float_atomics, AtomicAccumulation};
 use crate::passes::{require_accumulation_format, PhotonPath, ACCUMULATION_FORMAT, PHOTON_SETS};
+use crate::shader_abi::bindings as b;
 use crate::shader_math::GODRAY_MAX_SUBDIVISION;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;

@@ -6,6 +6,7 @@ pub mod compose;
 pub mod filter;
 pub mod godrays;
 pub mod grid_splat;
+pub mod mesh;
 pub mod photon_accumulation;
 pub mod reflection;
 pub mod refraction;

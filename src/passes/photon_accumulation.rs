@@ -4,7 +4,7 @@
 //! compute path's buffer exactly as they read a rasterised one.
 
 use crate::error::{Error, Result};
-use crate::frame::bindings as b;
+use crate::shader_abi::bindings as b;
 use crate::vk::buffer::Buffer;
 use crate::vk::descriptors::{Binding, DescriptorSets, Resource};
 use crate::vk::device::Device;

@@ -7,8 +7,8 @@
 
 use super::scene::{mesh_pipeline, View, COLOR_FORMAT};
 use crate::error::Result;
-use crate::frame::bindings as b;
-use crate::frame::mesh::GpuMeshes;
+use crate::passes::mesh::GpuMeshes;
+use crate::shader_abi::bindings as b;
 use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;

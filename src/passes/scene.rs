@@ -6,8 +6,8 @@
 //! displaced grid, shaded from whichever side each pixel sees it (`glsl/water.glsl`).
 
 use crate::error::Result;
-use crate::frame::bindings as b;
-use crate::frame::mesh::{GpuMeshes, MeshVertex, MESH_ATTRIBUTES};
+use crate::passes::mesh::{GpuMeshes, MeshVertex, MESH_ATTRIBUTES};
+use crate::shader_abi::bindings as b;
 use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;

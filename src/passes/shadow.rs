@@ -5,8 +5,8 @@
 //! mask the paper makes optional is derived from the position map instead (see photon.glsl).
 
 use crate::error::Result;
-use crate::frame::bindings as b;
-use crate::frame::mesh::{GpuMeshes, MESH_ATTRIBUTES};
+use crate::passes::mesh::{GpuMeshes, MESH_ATTRIBUTES};
+use crate::shader_abi::bindings as b;
 use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
@@ -67,7 +67,7 @@ impl ShadowPass {
                 depth_test: true,
                 depth_write: true,
                 set_layouts: &[sets.layout],
-                vertex_stride: std::mem::size_of::<crate::frame::mesh::MeshVertex>() as u32,
+                vertex_stride: std::mem::size_of::<crate::passes::mesh::MeshVertex>() as u32,
                 vertex_attributes: &MESH_ATTRIBUTES[..2],
                 ..GraphicsPipelineDesc::new("shadow", "shadow.vert", "shadow.frag", render_pass.raw)
             },

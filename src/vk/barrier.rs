@@ -52,25 +52,19 @@ pub mod render_pass {
             | A::TRANSFER_WRITE.as_raw()
             | A::SHADER_WRITE.as_raw(),
     );
-    /// What a pass (or its successor) does with an image or buffer.
-    pub const USES: A = A::from_raw(
+    /// Sampling and drawing: what passes do with each other's targets.
+    const SAMPLE_OR_DRAW: A = A::from_raw(
         A::SHADER_READ.as_raw()
-            | A::VERTEX_ATTRIBUTE_READ.as_raw()
             | A::COLOR_ATTACHMENT_READ.as_raw()
             | A::COLOR_ATTACHMENT_WRITE.as_raw()
             | A::DEPTH_STENCIL_ATTACHMENT_READ.as_raw()
             | A::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw(),
     );
+    /// What a pass does with what came before it: samples it, draws into it, reads vertices.
+    pub const USES: A = A::from_raw(SAMPLE_OR_DRAW.as_raw() | A::VERTEX_ATTRIBUTE_READ.as_raw());
     /// What follows a pass does with its attachments: sample, copy, or draw into again.
-    pub const AFTER_USES: A = A::from_raw(
-        A::SHADER_READ.as_raw()
-            | A::COLOR_ATTACHMENT_READ.as_raw()
-            | A::COLOR_ATTACHMENT_WRITE.as_raw()
-            | A::DEPTH_STENCIL_ATTACHMENT_READ.as_raw()
-            | A::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw()
-            | A::TRANSFER_READ.as_raw()
-            | A::TRANSFER_WRITE.as_raw(),
-    );
+    pub const AFTER_USES: A =
+        A::from_raw(SAMPLE_OR_DRAW.as_raw() | A::TRANSFER_READ.as_raw() | A::TRANSFER_WRITE.as_raw());
     /// The writes a pass makes to its attachments.
     pub const ATTACHMENT_WRITES: A =
         A::from_raw(A::COLOR_ATTACHMENT_WRITE.as_raw() | A::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw());

@@ -1,0 +1,200 @@
+//! The shader ABI: what the Rust side and `glsl/` agree on, in one leaf module that imports
+//! nothing of the method's.
+//!
+//! - `FrameUniforms`: the frame's parameter block, field for field with `glsl/frame.glsl`
+//!   (std430; a test below fails on any difference in a name or an offset). How each field
+//!   is computed for a frame is `frame::uniforms`.
+//! - `bindings`: the descriptor binding numbers, defined only here; the shader compiler passes
+//!   each to `glsl/` as a `BINDING_<NAME>` macro (`shaders::compile_all`).
+
+/// Defines `FrameUniforms` and `FRAME_UNIFORM_FIELDS` (each field's name and byte offset)
+/// from one list, so the test against `glsl/frame.glsl` sees every field the struct has.
+macro_rules! frame_uniforms {
+    ($($(#[doc = $doc:literal])* $name:ident: $ty:ty,)*) => {
+        /// The image of `glsl/frame.glsl`'s `FrameUniforms` block (std430), field for field.
+        #[repr(C)]
+        #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+        pub struct FrameUniforms {
+            $($(#[doc = $doc])* pub $name: $ty,)*
+        }
+
+        /// Every field of `FrameUniforms` with its byte offset, in declaration order.
+        pub const FRAME_UNIFORM_FIELDS: &[(&str, usize)] =
+            &[$((stringify!($name), std::mem::offset_of!(FrameUniforms, $name)),)*];
+    };
+}
+
+frame_uniforms! {
+    camera_view_proj: [[f32; 4]; 4],
+    light_view_proj: [[f32; 4]; 4],
+    light_inv_view_proj: [[f32; 4]; 4],
+    /// Pixel rays: compose and the background find where each starts (above or under water).
+    camera_inv_view_proj: [[f32; 4]; 4],
+    camera_position: [f32; 3],
+    /// Seconds.
+    time: f32,
+    z_near: f32,
+    z_far: f32,
+    tan_half_fov_y: f32,
+    aspect: f32,
+    /// The light frame's origin (directional) or the point light.
+    light_position: [f32; 3],
+    /// 0 directional, 1 point.
+    light_is_point: f32,
+    /// Directional: the travel direction; point: the axis of its frustum.
+    light_axis: [f32; 3],
+    /// Height of the scene's lowest point, m (the image-space iteration's first guess).
+    scene_lowest_y: f32,
+    /// E_surface, W/m²: the scale of the photon buffers and of the exposure.
+    surface_irradiance: f32,
+    /// E⊥ W/m² (directional) or I W/sr (point).
+    light_strength: f32,
+    /// Half sizes of the orthographic window, m (directional), or tan of the half angles (point).
+    light_half_extent: [f32; 2],
+    water_level: f32,
+    wave_amplitude: f32,
+    wavelength: f32,
+    wave_speed: f32,
+    noise_amplitude: f32,
+    noise_scale: f32,
+    ior: f32,
+    /// `WaterModel::glsl_id`.
+    water_model: f32,
+    wave_center: [f32; 2],
+    water_extent_min: [f32; 2],
+    water_extent_max: [f32; 2],
+    /// W/m² just under the surface.
+    ambient_irradiance: f32,
+    exposure: f32,
+    /// γ per channel, 1/m.
+    attenuation: [f32; 3],
+    /// σ_s, 1/m.
+    scattering: f32,
+    point_size_min: f32,
+    point_size_max: f32,
+    line_width: f32,
+    hg_g: f32,
+    caustic_photons_per_axis: f32,
+    godray_photons_per_axis: f32,
+    iterations: f32,
+    light_map_size: f32,
+    device_max_point_size: f32,
+    device_max_line_width: f32,
+    caustic_target_size: [f32; 2],
+    godray_target_size: [f32; 2],
+    output_size: [f32; 2],
+    /// The water's phase at this time (`shader_math::water_phase`).
+    water_phase: [f32; 3],
+    /// 1 when the frame records the refraction and reflection passes (set by `Frame::record`).
+    surface_views_ready: f32,
+    /// The surface's gradient and height above the level at the camera's xz: the tangent
+    /// plane the shaders decide each pixel's side of the water against. Set by
+    /// `Frame::record` from the CPU twin.
+    camera_water_gradient: [f32; 2],
+    camera_water_height: f32,
+    unused: f32,
+}
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 4 * 64 + 16 * 16);
+
+/// Binding numbers of the frame's descriptor set, defined here only: the shader compiler gets
+/// each as the macro `BINDING_<NAME>` (`shaders::compile_all`), which `glsl/` uses.
+pub mod bindings {
+    pub const UNIFORMS: u32 = 0;
+    pub const NOISE: u32 = 1;
+    pub const LIGHT_POSITION: u32 = 2;
+    pub const LIGHT_NORMAL: u32 = 3;
+    pub const SCENE_DEPTH: u32 = 4;
+    pub const SCENE_COLOR: u32 = 5;
+    pub const ALBEDO_TRANSMITTANCE: u32 = 6;
+    pub const CAUSTICS: u32 = 7;
+    pub const GODRAYS: u32 = 8;
+    /// The unfiltered buffer a filter pass instance reads (each instance has its own set).
+    pub const FILTER_INPUT: u32 = 9;
+    /// The caustics pass's photon records (debug variant only; the pass binds its own buffer).
+    pub const PHOTON_DEBUG: u32 = 10;
+    /// A compute photon path's accumulation buffer (its pass binds its own).
+    pub const PHOTON_ACCUMULATION: u32 = 11;
+    /// The raw splat floor's recorded splats (its pass binds its own).
+    pub const SPLAT_RECORDS: u32 = 12;
+    /// The refraction and reflection passes' targets, which the water surface reads.
+    pub const REFRACTION_COLOR: u32 = 13;
+    pub const REFRACTION_ALBEDO: u32 = 14;
+    pub const REFRACTION_DEPTH: u32 = 15;
+    pub const REFLECTION_COLOR: u32 = 16;
+    /// Every binding by its macro name, for the shader compiler.
+    pub const ALL: &[(&str, u32)] = &[
+        ("UNIFORMS", UNIFORMS),
+        ("NOISE", NOISE),
+        ("LIGHT_POSITION", LIGHT_POSITION),
+        ("LIGHT_NORMAL", LIGHT_NORMAL),
+        ("SCENE_DEPTH", SCENE_DEPTH),
+        ("SCENE_COLOR", SCENE_COLOR),
+        ("ALBEDO_TRANSMITTANCE", ALBEDO_TRANSMITTANCE),
+        ("CAUSTICS", CAUSTICS),
+        ("GODRAYS", GODRAYS),
+        ("FILTER_INPUT", FILTER_INPUT),
+        ("PHOTON_DEBUG", PHOTON_DEBUG),
+        ("PHOTON_ACCUMULATION", PHOTON_ACCUMULATION),
+        ("SPLAT_RECORDS", SPLAT_RECORDS),
+        ("REFRACTION_COLOR", REFRACTION_COLOR),
+        ("REFRACTION_ALBEDO", REFRACTION_ALBEDO),
+        ("REFRACTION_DEPTH", REFRACTION_DEPTH),
+        ("REFLECTION_COLOR", REFLECTION_COLOR),
+    ];
+}
+
+#[cfg(test)]
+mod abi_tests {
+    use super::*;
+
+    /// std430 size and alignment of the block's member types.
+    fn std430(ty: &str) -> (usize, usize) {
+        match ty {
+            "float" => (4, 4),
+            "vec2" => (8, 8),
+            "vec3" => (12, 16),
+            "vec4" => (16, 16),
+            "mat4" => (64, 16),
+            other => panic!("glsl/frame.glsl: the block holds a {other}; teach this test its std430 layout"),
+        }
+    }
+
+    /// The block's members, name and std430 offset, in declaration order.
+    fn glsl_members(source: &str) -> (Vec<(String, usize)>, usize) {
+        let body = source.split("readonly buffer FrameUniforms {").nth(1).expect("the FrameUniforms block");
+        let body = body.split("} frame;").next().expect("the block's end");
+        let (mut members, mut offset) = (Vec::new(), 0usize);
+        for line in body.lines() {
+            let code = line.split("//").next().unwrap_or("").trim();
+            if code.is_empty() {
+                continue;
+            }
+            let decl = code.strip_suffix(';').unwrap_or_else(|| panic!("not a member declaration: {code:?}"));
+            let (ty, name) = decl.split_once(' ').unwrap_or_else(|| panic!("not a member declaration: {code:?}"));
+            let (size, align) = std430(ty.trim());
+            offset = offset.div_ceil(align) * align;
+            members.push((name.trim().to_string(), offset));
+            offset += size;
+        }
+        (members, offset.div_ceil(16) * 16)
+    }
+
+    #[test]
+    fn glsl_block_matches_the_rust_struct() {
+        let (members, size) = glsl_members(include_str!("../glsl/frame.glsl"));
+        let rust: Vec<(String, usize)> = FRAME_UNIFORM_FIELDS.iter().map(|(n, o)| (n.to_string(), *o)).collect();
+        assert_eq!(members, rust, "glsl/frame.glsl's FrameUniforms and shader_abi::FrameUniforms differ");
+        assert_eq!(size, std::mem::size_of::<FrameUniforms>());
+    }
+
+    #[test]
+    fn the_layout_check_catches_a_misplaced_vec2() {
+        // A vec2 after one float is aligned to 8 in std430: the Rust struct would put it at 4.
+        let (members, _) = glsl_members("readonly buffer FrameUniforms {\n float a;\n vec2 b;\n} frame;");
+        assert_eq!(members, vec![("a".to_string(), 0), ("b".to_string(), 8)]);
+        let (members, size) =
+            glsl_members("readonly buffer FrameUniforms {\n vec3 a;\n float b; // tail\n mat4 c;\n} frame;");
+        assert_eq!(members, vec![("a".to_string(), 0), ("b".to_string(), 12), ("c".to_string(), 16)]);
+        assert_eq!(size, 80);
+    }
+}
