@@ -109,11 +109,9 @@ fn decode_text(bytes: &[u8], path: &Path, warnings: &mut Vec<String>) -> String 
         });
         char::decode_utf16(units).map(|c| c.unwrap_or(char::REPLACEMENT_CHARACTER)).collect()
     };
-    if let Some(rest) = bytes.strip_prefix(&[0xEF, 0xBB, 0xBF]) {
-        if let Ok(text) = std::str::from_utf8(rest) {
-            return text.to_owned();
-        }
-    }
+    // A UTF-8 byte-order mark is dropped whatever follows, so it never reaches the first
+    // keyword (even when the rest is then read as Latin-1).
+    let bytes = bytes.strip_prefix(&[0xEF, 0xBB, 0xBF]).unwrap_or(bytes);
     let (little, rest) = match bytes {
         [0xFF, 0xFE, rest @ ..] => (Some(true), rest),
         [0xFE, 0xFF, rest @ ..] => (Some(false), rest),
@@ -550,6 +548,16 @@ mod tests {
         assert_eq!(check_obj_text("v 0 0 0\nf\n").unwrap_err().0, 2);
         // A forward reference is an error even though the vertex comes later.
         assert_eq!(check_obj_text("f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n").unwrap_err().0, 1);
+    }
+
+    #[test]
+    fn a_utf8_byte_order_mark_never_reaches_the_first_keyword() {
+        let mut warnings = Vec::new();
+        let path = Path::new("bom.obj");
+        assert_eq!(decode_text(b"\xEF\xBB\xBFv 0 0 0\n", path, &mut warnings), "v 0 0 0\n");
+        // Followed by a Latin-1 byte: read as Latin-1, still without the mark.
+        assert_eq!(decode_text(b"\xEF\xBB\xBFv 0 0 0\n# caf\xE9\n", path, &mut warnings), "v 0 0 0\n# caf\u{e9}\n");
+        assert_eq!(warnings.len(), 1, "{warnings:?}");
     }
 
     #[test]
