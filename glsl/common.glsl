@@ -166,17 +166,23 @@ float water_intersect(WaterParams w, sampler2D noise, vec3 o, vec3 d, vec3 phase
         ta = t; fa = f;
     }
     if (fb > 0.0) return -1.0; // rounding at the slab's floor
-    // Illinois: halve the value kept at an end that survives twice, so both ends move.
+    // Illinois: halve the value kept at an end that survives twice, so both ends move. The
+    // answer is the evaluated point nearest the surface, not the last estimate: where the
+    // surface runs almost along the ray (a grazing sun over noise), Illinois can stall beside
+    // a near-tangent point it already passed, and the last estimate is the worse one.
+    float best_t = tb, best_f = abs(fb);
     int kept = 0;
     for (int i = 0; i < WATER_REFINE_STEPS; ++i) {
         float t = ta + (tb - ta) * fa / (fa - fb);
         float f = water_height_above_surface(w, noise, o, d, t, phase);
+        if (abs(f) < best_f) { best_t = t; best_f = abs(f); }
         if (f > 0.0) { ta = t; fa = f; if (kept == -1) fb *= 0.5; kept = -1; }
         else { tb = t; fb = f; if (kept == 1) fa *= 0.5; kept = 1; }
     }
     float t = ta + (tb - ta) * fa / (fa - fb);
-    float residual = water_height_above_surface(w, noise, o, d, t, phase);
-    return abs(residual) <= 0.01 * bound + 1e-4 ? t : -1.0;
+    float f = water_height_above_surface(w, noise, o, d, t, phase);
+    if (abs(f) < best_f) { best_t = t; best_f = abs(f); }
+    return best_f <= 0.01 * bound + 1e-4 ? best_t : -1.0;
 }
 
 // Fresnel transmittance for unpolarised light from a medium of index 1 into index n,

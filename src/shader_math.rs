@@ -258,10 +258,15 @@ pub fn water_intersect(w: &WaterParams, noise: &NoiseTexture, o: Vec3, d: Vec3, 
     if fb > 0.0 {
         return -1.0;
     }
+    // The evaluated point nearest the surface, not the last estimate (see the GLSL).
+    let (mut best_t, mut best_f) = (tb, fb.abs());
     let mut kept = 0;
     for _ in 0..WATER_REFINE_STEPS {
         let t = ta + (tb - ta) * fa / (fa - fb);
         let ft = f(t);
+        if ft.abs() < best_f {
+            (best_t, best_f) = (t, ft.abs());
+        }
         if ft > 0.0 {
             (ta, fa) = (t, ft);
             if kept == -1 {
@@ -277,8 +282,12 @@ pub fn water_intersect(w: &WaterParams, noise: &NoiseTexture, o: Vec3, d: Vec3, 
         }
     }
     let t = ta + (tb - ta) * fa / (fa - fb);
-    if f(t).abs() <= 0.01 * bound + 1e-4 {
-        t
+    let ft = f(t);
+    if ft.abs() < best_f {
+        (best_t, best_f) = (t, ft.abs());
+    }
+    if best_f <= 0.01 * bound + 1e-4 {
+        best_t
     } else {
         -1.0
     }
