@@ -9,7 +9,7 @@ use crate::image_io::{read_pfm, write_pfm, HdrImage};
 use crate::metrics::{buffer_error, compose_srgb8, flip, frame_change, BufferError};
 use crate::passes::PassId;
 use crate::reference::{ReferenceImages, ReferenceSettings};
-use crate::scene::Scene;
+use crate::scene::{CausticEstimator, Scene};
 use crate::vk::device::Device;
 use crate::vk::vk;
 use anyhow::{bail, Context as _, Result};
@@ -138,6 +138,7 @@ pub struct SweepAxes {
     pub point_size: Vec<f32>,
     pub line_width: Vec<f32>,
     pub filter: Vec<bool>,
+    pub estimator: Vec<CausticEstimator>,
 }
 
 impl SweepAxes {
@@ -173,6 +174,7 @@ impl SweepAxes {
         let or = |v: &Vec<u32>, d: u32| if v.is_empty() { vec![d] } else { v.clone() };
         let orf = |v: &Vec<f32>, d: f32| if v.is_empty() { vec![d] } else { v.clone() };
         let filters = if self.filter.is_empty() { vec![e.filter] } else { self.filter.clone() };
+        let estimators = if self.estimator.is_empty() { vec![e.caustic_estimator] } else { self.estimator.clone() };
         let mut out = Vec::new();
         for &grid in &or(&self.grid, e.caustic_grid) {
             for &sub in &or(&self.subdivision, e.caustic_subdivision) {
@@ -180,7 +182,9 @@ impl SweepAxes {
                     for &scale in &orf(&self.target_scale, e.caustic_target_scale) {
                         for &size in &orf(&self.point_size, e.point_size_max) {
                             for &width in &orf(&self.line_width, e.line_width) {
-                                for &filter in &filters {
+                                for (&filter, &estimator) in
+                                    filters.iter().flat_map(|f| estimators.iter().map(move |e| (f, e)))
+                                {
                                     let mut s = base.clone();
                                     let fx = &mut s.effects;
                                     fx.caustic_grid = grid;
@@ -191,6 +195,14 @@ impl SweepAxes {
                                     fx.point_size_min = fx.point_size_min.min(size);
                                     fx.line_width = width;
                                     fx.filter = filter;
+                                    fx.caustic_estimator = estimator;
+                                    // The triangle estimator's subdivision bound (its
+                                    // geometry shader's output limit) skips larger ones.
+                                    if estimator == CausticEstimator::Triangles
+                                        && sub > crate::shader_math::TRIANGLE_MAX_SUBDIVISION
+                                    {
+                                        continue;
+                                    }
                                     out.push(s);
                                 }
                             }
@@ -214,6 +226,8 @@ pub struct SweepRow {
     pub point_size_max: f32,
     pub line_width: f32,
     pub filter: bool,
+    /// `CausticEstimator::name`.
+    pub estimator: &'static str,
     /// Median GPU ms of the passes the settings change: shadow, caustics, godrays, filter.
     pub effect_ms: f64,
     /// Median GPU ms of the whole frame (all passes).
@@ -257,9 +271,10 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
     for (k, scene) in scenes.iter().enumerate() {
         let e = &scene.effects;
         eprintln!(
-            "setting {}/{}: grid {}² × {}², {} iterations, target ×{}, points ≤ {} px, lines {} px, filter {}",
+            "setting {}/{}: {} estimator, grid {}² × {}², {} iterations, target ×{}, points ≤ {} px, lines {} px, filter {}",
             k + 1,
             scenes.len(),
+            e.caustic_estimator.name(),
             e.caustic_grid,
             e.caustic_subdivision,
             e.iterations,
@@ -316,6 +331,7 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
             point_size_max: e.point_size_max,
             line_width: e.line_width,
             filter: e.filter,
+            estimator: e.caustic_estimator.name(),
             effect_ms,
             frame_ms,
             caustics: error(gpu_c, &reference.caustics)?,
@@ -350,7 +366,7 @@ pub fn csv(rows: &[SweepRow]) -> String {
     let mut s = String::from(
         "caustic_grid,caustic_subdivision,caustic_photons,iterations,caustic_target_w,caustic_target_h,point_size_max,\
          line_width,filter,effect_ms,frame_ms,caustic_rel_rmse,caustic_mean_rel_error,caustic_flux_error,\
-         godray_rel_rmse,godray_mean_rel_error,godray_flux_error,flip,caustic_change_gpu,caustic_change_reference,pareto\n",
+         godray_rel_rmse,godray_mean_rel_error,godray_flux_error,flip,caustic_change_gpu,caustic_change_reference,pareto,estimator\n",
     );
     let opt = |e: Option<BufferError>| match e {
         Some(e) => format!("{:.5},{:.5},{:.5}", e.relative_rmse, e.mean_relative_error, e.flux_error),
@@ -358,7 +374,7 @@ pub fn csv(rows: &[SweepRow]) -> String {
     };
     for r in rows {
         s += &format!(
-            "{},{},{},{},{},{},{},{},{},{:.3},{:.3},{},{},{:.5},{:.5},{:.5},{}\n",
+            "{},{},{},{},{},{},{},{},{},{:.3},{:.3},{},{},{:.5},{:.5},{:.5},{},{}\n",
             r.caustic_grid,
             r.caustic_subdivision,
             r.caustic_photons,
@@ -375,7 +391,8 @@ pub fn csv(rows: &[SweepRow]) -> String {
             r.flip,
             r.caustic_change_gpu,
             r.caustic_change_reference,
-            r.pareto
+            r.pareto,
+            r.estimator
         );
     }
     s
@@ -384,14 +401,15 @@ pub fn csv(rows: &[SweepRow]) -> String {
 /// A table for the terminal and docs (Markdown).
 pub fn table(rows: &[SweepRow]) -> String {
     let mut s = String::from(
-        "| photons | iter | target | points ≤ | filter | effect ms | caustic rel RMSE | flux err | godray rel RMSE | FLIP | change GPU / ref | front |\n\
-         | ---: | ---: | --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | --- | --- |\n",
+        "| estimator | photons | iter | target | points ≤ | filter | effect ms | caustic rel RMSE | flux err | godray rel RMSE | FLIP | change GPU / ref | front |\n\
+         | --- | ---: | ---: | --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | --- | --- |\n",
     );
     for r in rows {
         let c = r.caustics.map(|e| (format!("{:.3}", e.relative_rmse), format!("{:+.1} %", 100.0 * e.flux_error)));
         let (c_rmse, c_flux) = c.unwrap_or(("–".into(), "–".into()));
         s += &format!(
-            "| {}² × {}² | {} | {}×{} | {} | {} | {:.1} | {} | {} | {} | {:.3} | {:.3} / {:.3} | {} |\n",
+            "| {} | {}² × {}² | {} | {}×{} | {} | {} | {:.1} | {} | {} | {} | {:.3} | {:.3} / {:.3} | {} |\n",
+            r.estimator,
             r.caustic_grid,
             r.caustic_subdivision,
             r.iterations,

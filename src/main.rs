@@ -137,6 +137,9 @@ struct SweepArgs {
     /// Filter on, off, or both.
     #[arg(long, value_delimiter = ',', default_values_t = [String::from("off"), String::from("on")])]
     filter: Vec<String>,
+    /// Caustic estimators: paper, triangles (comma-separated).
+    #[arg(long, value_delimiter = ',', value_parser = caustic_estimator)]
+    estimator: Vec<underlight::scene::CausticEstimator>,
     /// Timed frames per setting (median) and warm-up frames.
     #[arg(long, default_value_t = 5)]
     frames: u32,
@@ -186,6 +189,19 @@ struct SceneArgs {
     /// Point the camera at this point instead of the scene's look_at.
     #[arg(long, value_name = "X,Y,Z", value_delimiter = ',', allow_hyphen_values = true)]
     look_at: Option<Vec<f32>>,
+    /// Turn photons into irradiance with this estimator instead of the scene's: paper
+    /// (distance-sized points) or triangles (warped-cell triangles).
+    #[arg(long, value_name = "NAME", value_parser = caustic_estimator)]
+    caustic_estimator: Option<underlight::scene::CausticEstimator>,
+}
+
+/// `--caustic-estimator` / `--estimator` values.
+fn caustic_estimator(name: &str) -> std::result::Result<underlight::scene::CausticEstimator, String> {
+    use underlight::scene::CausticEstimator;
+    CausticEstimator::from_name(name).ok_or_else(|| {
+        let names: Vec<&str> = CausticEstimator::ALL.iter().map(|e| e.name()).collect();
+        format!("no caustic estimator {name:?}; there are {}", names.join(", "))
+    })
 }
 
 #[derive(clap::Args)]
@@ -411,6 +427,9 @@ fn render_scene(cli: &Cli, args: &SceneArgs) -> Result<i32> {
     if let Some(p) = point("look-at", &args.look_at)? {
         scene.camera.look_at = p;
     }
+    if let Some(estimator) = args.caustic_estimator {
+        scene.effects.caustic_estimator = estimator;
+    }
     if scene.camera.position.distance(scene.camera.look_at) < 1e-6 {
         bail!("--camera and --look-at give the same point: the camera needs a direction to look in");
     }
@@ -478,9 +497,30 @@ fn render_scene(cli: &Cli, args: &SceneArgs) -> Result<i32> {
             image_io::write_pfm(&path, img)?;
             println!("wrote {}", path.display());
         }
+        // The effect buffers also as PNGs at the exposure `reference` writes its own with, so
+        // the two sit side by side.
+        for (name, img, scale) in [
+            ("caustics", &images.caustics, 1.0 / std::f32::consts::PI),
+            ("caustics_filtered", &images.caustics_filtered, 1.0 / std::f32::consts::PI),
+            ("godrays", &images.godrays, 1.0),
+            ("godrays_filtered", &images.godrays_filtered, 1.0),
+        ] {
+            if let Some(img) = img {
+                let path = dir.join(format!("{name}.png"));
+                let exposure = effect_png_exposure(&scene) * scale;
+                image_io::write_png(&path, img.width, img.height, &image_io::tonemap_srgb8(img, exposure))?;
+                println!("wrote {}", path.display());
+            }
+        }
     }
     println!("\nmedian over {} frames:\n{}", timings.len(), headless::median_timings(&timings));
     Ok(finish(ctx))
+}
+
+/// The exposure of the effect buffers' PNGs (`reference`, `render --hdr`): the compose
+/// pass's, which shows the surface irradiance on a white receiver at mid grey.
+fn effect_png_exposure(scene: &underlight::scene::Scene) -> f32 {
+    2.0 * std::f32::consts::PI / underlight::frame::uniforms::surface_irradiance(scene)
 }
 
 fn reference(args: &ReferenceArgs) -> Result<i32> {
@@ -503,8 +543,7 @@ fn reference(args: &ReferenceArgs) -> Result<i32> {
     println!("reference for {:?} at t = {} s in {:.1} s", scene.name, args.time, started.elapsed().as_secs_f64());
     // PNGs at the compose pass's exposure, as irradiance or radiance would show on a white
     // Lambertian receiver (E/π) or directly (godrays).
-    let e_surface = underlight::frame::uniforms::surface_irradiance(&scene);
-    let exposure = 2.0 * std::f32::consts::PI / e_surface;
+    let exposure = effect_png_exposure(&scene);
     for (name, image, scale) in
         [("caustics", &images.caustics, 1.0 / std::f32::consts::PI), ("godrays", &images.godrays, 1.0)]
     {
@@ -567,6 +606,7 @@ fn sweep(cli: &Cli, args: &SweepArgs) -> Result<i32> {
         point_size: args.point_size.clone(),
         line_width: args.line_width.clone(),
         filter,
+        estimator: args.estimator.clone(),
     };
     axes.validate()?;
     std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;

@@ -7,11 +7,14 @@ mod common;
 
 use common::{assert_clean_shutdown, pool, validated_context, FLOOR_DEPTH};
 use underlight::frame::uniforms::directional_irradiance;
+use underlight::frame::FrameOptions;
 use underlight::frame::FramePlan;
 use underlight::headless::{SceneImages, SceneRenderer};
 use underlight::image_io::HdrImage;
+use underlight::metrics::gap_fraction;
 use underlight::passes::PassId;
-use underlight::scene::{Light, LightKind, Scene, WaterModel};
+use underlight::passes::PhotonPath;
+use underlight::scene::{CausticEstimator, Light, LightKind, Scene, WaterModel};
 use underlight::shader_math::fresnel_transmittance;
 use underlight::vk::vk;
 
@@ -452,4 +455,86 @@ fn photon_paths_draw_the_same_buffers() {
             PhotonPath::GeometryShader => unreachable!(),
         }
     }
+}
+
+/// The pool at `size`² with the triangle estimator (or the paper's), unfiltered: the raw
+/// buffer is the estimator's own.
+fn pool_with(amplitude: f32, estimator: CausticEstimator, size: u32) -> Scene {
+    let mut scene = pool(amplitude);
+    scene.output = [size, size];
+    scene.effects.caustic_estimator = estimator;
+    scene.effects.filter = false;
+    scene
+}
+
+#[test]
+fn triangle_estimator_lights_flat_water_exactly_and_without_gaps() {
+    // Under flat water the refracted mesh is the light grid translated: its triangles tile
+    // the floor, each carrying its flux over its area, so every pixel holds the analytic
+    // irradiance, with no splat footprint to leave a bias or a block pattern.
+    // At 320×320 the floor's triangles are about 1 px² (at the pool's 96×96 they are a
+    // fifth of that and draw as single pixels: glsl/caustics_triangles.geom).
+    let scene = pool_with(0.0, CausticEstimator::Triangles, 320);
+    let (images, _) = render(&scene);
+    let caustics = images.caustics.as_ref().unwrap();
+    assert!(!caustics.has_non_finite());
+    let expected = directional_irradiance(&scene) as f64
+        * fresnel_transmittance(1.0, scene.water.ior) as f64
+        * (-0.13f64 * FLOOR_DEPTH as f64).exp();
+    let (mean, rel_std, peak) = central_stats(caustics, 1);
+    eprintln!(
+        "triangles, flat floor: mean {mean:e} (analytic {expected:e}), per-pixel std {rel_std}, peak/mean {peak}"
+    );
+    // Per pixel, not per block: the points need 4×4 blocks and 3 % to pass the same checks.
+    assert!((mean / expected - 1.0).abs() < 0.01, "floor irradiance {mean:e} W/m², analytic {expected:e}");
+    assert!(rel_std < 0.01, "flat water should light every pixel alike: relative std {rel_std}");
+    assert_eq!(gap_fraction(caustics), 0.0, "a pixel of the lit floor holds nothing");
+}
+
+#[test]
+fn triangle_estimator_covers_what_points_leave_as_gaps_and_keeps_the_flux() {
+    // At 320×320 the pool's photons lie about 1.4 px apart on the floor under waves that
+    // spread them further, and the paper's points leave holes between them; the
+    // triangles cover the floor. Both carry the same light: waves move it, the estimator
+    // only decides where it is drawn.
+    let size = 320;
+    let mut figures = Vec::new();
+    for estimator in CausticEstimator::ALL {
+        let (flat, _) = render(&pool_with(0.0, estimator, size));
+        let (wavy, _) = render(&pool_with(0.04, estimator, size));
+        let (flat_mean, _, _) = central_stats(flat.caustics.as_ref().unwrap(), 4);
+        let (wavy_mean, wavy_std, _) = central_stats(wavy.caustics.as_ref().unwrap(), 4);
+        let gaps = gap_fraction(wavy.caustics.as_ref().unwrap());
+        eprintln!(
+            "{}: flat mean {flat_mean:e}, wavy mean {wavy_mean:e} (block std {wavy_std}), gap fraction {gaps}",
+            estimator.name()
+        );
+        figures.push((flat_mean, wavy_mean, wavy_std, gaps));
+    }
+    let (paper, triangles) = (figures[0], figures[1]);
+    assert!(triangles.3 < 0.01, "triangles leave a gap fraction of {}", triangles.3);
+    assert!(paper.3 > 10.0 * triangles.3.max(0.001), "paper {} against triangles {}", paper.3, triangles.3);
+    assert!(
+        (triangles.1 / triangles.0 - 1.0).abs() < 0.05,
+        "triangles: flat {:e}, wavy {:e}",
+        triangles.0,
+        triangles.1
+    );
+    assert!((triangles.0 / paper.0 - 1.0).abs() < 0.03, "flat floor: paper {:e}, triangles {:e}", paper.0, triangles.0);
+    assert!(triangles.2 > 0.2, "the waves' caustics are gone: block std {}", triangles.2);
+}
+
+#[test]
+fn triangle_estimator_names_what_it_needs() {
+    let ctx = validated_context();
+    let scene = pool_with(0.04, CausticEstimator::Triangles, 64);
+    let out = vk::Extent2D { width: 64, height: 64 };
+    let options = FrameOptions { photon_path: PhotonPath::VertexOnly, ..FrameOptions::default() };
+    let err = SceneRenderer::with_options(&ctx.device, &scene, out, options).err().expect("vertex-only triangles");
+    assert!(err.to_string().contains("caustic_estimator") && err.to_string().contains("geometry-shader"), "{err}");
+    let mut finer = scene.clone();
+    finer.effects.caustic_subdivision = 4;
+    let err = SceneRenderer::new(&ctx.device, &finer, out).err().expect("subdivision 4");
+    assert!(err.to_string().contains("caustic_subdivision") && err.to_string().contains("1..=3"), "{err}");
+    assert_clean_shutdown(ctx);
 }

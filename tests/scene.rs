@@ -569,6 +569,11 @@ fn out_of_range_values_are_errors_naming_the_field_and_the_range() {
             "effects.point_size_max = 4 is out of range: must be >= effects.point_size_min (5)",
         ),
         ("[effects]\nline_width = 0\n", "effects.line_width = 0 is out of range: must be > 0"),
+        (
+            "[effects]\ncaustic_estimator = \"triangles\"\ncaustic_subdivision = 4\n",
+            "effects.caustic_subdivision = 4 is out of range for effects.caustic_estimator = \"triangles\": must be <= 3",
+        ),
+        ("[effects]\ncaustic_estimator = \"splats\"\n", "effects.caustic_estimator"),
         ("[output]\nwidth = 0\nheight = 10\n", "output.width = 0 is out of range: must be in [1, 16384]"),
     ];
     for (section, expected) in appended {

@@ -118,10 +118,11 @@ impl FramePlan {
             light_under_why()
         } else {
             format!(
-                "receivers below the water; {}² cells × {}² photons into {:.0}% of the output",
+                "receivers below the water; {}² cells × {}² photons into {:.0}% of the output, {} estimator",
                 scene.effects.caustic_grid,
                 scene.effects.caustic_subdivision,
-                100.0 * scene.effects.caustic_target_scale
+                100.0 * scene.effects.caustic_target_scale,
+                scene.effects.caustic_estimator.name()
             )
         };
         let scatters = scene.medium.scattering > 0.0;
@@ -396,6 +397,7 @@ impl Frame {
                 ext,
                 e.caustic_grid,
                 e.caustic_subdivision,
+                e.caustic_estimator,
                 options.record_photons,
                 options.photon_path,
             )?)

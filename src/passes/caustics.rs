@@ -1,13 +1,15 @@
 //! Caustics pass (method step 5): the photon grid, subdivided by the geometry shader,
-//! refracted at the water and intersected with the scene in image space; each photon that
-//! lands is splatted as a distance-sized point carrying an irradiance estimate, added into
-//! an RGBA16F target a fraction of the output's size (units: docs/units.md).
+//! refracted at the water and intersected with the scene in image space; the photons that
+//! land become irradiance in an RGBA32F target a fraction of the output's size (units:
+//! docs/units.md), by one of two estimators (`CausticEstimator`): the paper's
+//! distance-sized points, or warped-cell triangles (glsl/caustics_triangles.geom).
 
 use crate::error::{Error, Result};
 use crate::passes::photon_accumulation::{dispatch_per_photon, require_float_atomics, AtomicAccumulation};
 use crate::passes::{require_accumulation_format, PhotonPath, ACCUMULATION_FORMAT, PHOTON_SETS};
+use crate::scene::CausticEstimator;
 use crate::shader_abi::bindings as b;
-use crate::shader_math::MAX_SUBDIVISION;
+use crate::shader_math::{MAX_SUBDIVISION, TRIANGLE_MAX_SUBDIVISION};
 use crate::vk::buffer::Buffer;
 use crate::vk::descriptors::{Binding, DescriptorSets, Resource};
 use crate::vk::device::Device;
@@ -41,6 +43,7 @@ struct SplatFloor {
 
 pub struct CausticsPass {
     pub path: PhotonPath,
+    pub estimator: CausticEstimator,
     pub grid: u32,
     pub subdivision: u32,
     /// With photon recording on: two vec4 per photon, (hit, landed) and (surface, flux).
@@ -62,9 +65,29 @@ impl CausticsPass {
         extent: vk::Extent2D,
         grid: u32,
         subdivision: u32,
+        estimator: CausticEstimator,
         record_photons: bool,
         path: PhotonPath,
     ) -> Result<Self> {
+        let triangles = estimator == CausticEstimator::Triangles;
+        if triangles && (path != PhotonPath::GeometryShader || record_photons) {
+            return Err(Error::InvalidParameter {
+                name: "caustic_estimator",
+                message: format!(
+                    "\"triangles\" needs the geometry-shader photon path without photon recording (asked: {}{})",
+                    path.name(),
+                    if record_photons { ", recording photons" } else { "" }
+                ),
+            });
+        }
+        if triangles && subdivision > TRIANGLE_MAX_SUBDIVISION {
+            return Err(Error::InvalidParameter {
+                name: "caustic_subdivision",
+                message: format!(
+                    "{subdivision} is outside 1..={TRIANGLE_MAX_SUBDIVISION} for the triangle estimator (the geometry shader's output limit)"
+                ),
+            });
+        }
         if record_photons && path != PhotonPath::GeometryShader {
             return Err(Error::InvalidParameter {
                 name: "record_photons",
@@ -144,6 +167,14 @@ impl CausticsPass {
             ..GraphicsPipelineDesc::new("caustics", vertex, "caustics.frag", target.render_pass.raw)
         };
         let (pipeline, accumulation, splat_floor) = match path {
+            PhotonPath::GeometryShader if triangles => {
+                let desc = GraphicsPipelineDesc {
+                    name: "caustics triangles",
+                    fragment: "caustics_triangles.frag",
+                    ..points("photon_grid.vert", Some("caustics_triangles.geom"))
+                };
+                (Pipeline::graphics(device, &desc)?, None, None)
+            }
             PhotonPath::GeometryShader => {
                 let geometry = if record_photons { "caustics_debug.geom" } else { "caustics.geom" };
                 (Pipeline::graphics(device, &points("photon_grid.vert", Some(geometry)))?, None, None)
@@ -187,6 +218,7 @@ impl CausticsPass {
         }
         Ok(Self {
             path,
+            estimator,
             grid,
             subdivision,
             photon_records,

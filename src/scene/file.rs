@@ -7,7 +7,7 @@
 //! included, which TOML allows) are errors that name the file, the line, the field as a
 //! dotted path (`water.wavelength`, `objects[1].scale`) and the allowed range.
 
-use super::{Camera, Effects, Light, LightKind, Medium, Mesh, Scene, Water, WaterModel};
+use super::{Camera, CausticEstimator, Effects, Light, LightKind, Medium, Mesh, Scene, Water, WaterModel};
 use anyhow::{anyhow, bail, Context as _, Result};
 use glam::{Mat3, Vec2, Vec3};
 use serde::de::{self, Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
@@ -166,6 +166,13 @@ struct MediumFile {
     hg_g: Option<f32>,
 }
 
+#[derive(serde::Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+enum CausticEstimatorFile {
+    Paper,
+    Triangles,
+}
+
 #[derive(serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 struct EffectsFile {
@@ -174,6 +181,7 @@ struct EffectsFile {
     filter: Option<bool>,
     caustic_grid: Option<u32>,
     caustic_subdivision: Option<u32>,
+    caustic_estimator: Option<CausticEstimatorFile>,
     godray_grid: Option<u32>,
     godray_subdivision: Option<u32>,
     caustic_target_scale: Option<f32>,
@@ -722,6 +730,11 @@ impl EffectsFile {
                 1,
                 crate::shader_math::MAX_SUBDIVISION,
             )?,
+            caustic_estimator: match self.caustic_estimator {
+                None => d.caustic_estimator,
+                Some(CausticEstimatorFile::Paper) => CausticEstimator::Paper,
+                Some(CausticEstimatorFile::Triangles) => CausticEstimator::Triangles,
+            },
             godray_grid: int("godray_grid", self.godray_grid, d.godray_grid, 1, 4096)?,
             godray_subdivision: int(
                 "godray_subdivision",
@@ -748,6 +761,16 @@ impl EffectsFile {
             iterations: int("iterations", self.iterations, d.iterations, 1, 64)?,
             shadow_map_size: int("shadow_map_size", self.shadow_map_size, d.shadow_map_size, 16, 8192)?,
         };
+        let triangle_max = crate::shader_math::TRIANGLE_MAX_SUBDIVISION;
+        if effects.caustic_estimator == CausticEstimator::Triangles && effects.caustic_subdivision > triangle_max {
+            return Err(ctx.error(
+                "effects.caustic_subdivision",
+                format_args!(
+                    "= {} is out of range for effects.caustic_estimator = \"triangles\": must be <= {triangle_max} (the geometry shader's output limit)",
+                    effects.caustic_subdivision
+                ),
+            ));
+        }
         if effects.point_size_max < effects.point_size_min {
             return Err(ctx.error(
                 "effects.point_size_max",

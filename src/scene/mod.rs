@@ -112,6 +112,34 @@ pub struct Medium {
     pub hg_g: f32,
 }
 
+/// How the caustics pass turns landed photons into irradiance (`effects.caustic_estimator`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CausticEstimator {
+    /// The paper's: each photon a square point sized by its distance to the camera
+    /// (`point_size_min`..`point_size_max`), its flux spread over the pixels it covers.
+    Paper,
+    /// Warped-cell triangles: the photons are the vertices of a mesh whose cells, refracted
+    /// onto the receivers, carry their flux over their area (glsl/caustics_triangles.geom).
+    /// The geometry-shader path only, with `caustic_subdivision` ≤ 3.
+    Triangles,
+}
+
+impl CausticEstimator {
+    pub const ALL: [CausticEstimator; 2] = [CausticEstimator::Paper, CausticEstimator::Triangles];
+
+    /// The name scene files and command lines use.
+    pub fn name(self) -> &'static str {
+        match self {
+            CausticEstimator::Paper => "paper",
+            CausticEstimator::Triangles => "triangles",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|e| e.name() == name)
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Effects {
     pub caustics: bool,
@@ -120,6 +148,8 @@ pub struct Effects {
     /// Coarse caustic photon grid per axis (the paper: 200) and GS subdivision (2).
     pub caustic_grid: u32,
     pub caustic_subdivision: u32,
+    /// Photons into irradiance: the paper's points or warped-cell triangles.
+    pub caustic_estimator: CausticEstimator,
     /// Godray grid (100) and subdivision (2).
     pub godray_grid: u32,
     pub godray_subdivision: u32,
@@ -151,6 +181,7 @@ impl Default for Effects {
             filter: true,
             caustic_grid: 200,
             caustic_subdivision: 2,
+            caustic_estimator: CausticEstimator::Paper,
             godray_grid: 100,
             godray_subdivision: 2,
             caustic_target_scale: 0.64,
