@@ -3,7 +3,7 @@
 // The view depth is per fragment: a triangle spans depths, unlike a point.
 #include "scene_depth.glsl"
 
-layout(location = 0) flat in vec3 g_irradiance;
+layout(location = 0) in vec3 g_irradiance;
 layout(location = 0) out vec4 out_irradiance;
 
 void main() {

@@ -4,26 +4,29 @@
 // coarse cell casts its SUBDIVISION² photons and the next row and column of its neighbours',
 // and emits the mesh cells whose lower-left corner is one of its own photons, each as two
 // triangles on the receivers. A triangle carries the flux of its light-space area over its
-// receiver area, so the target holds the irradiance of the piecewise-linear refracted
-// wavefront: no gaps where photons spread, no blur where they focus, folds add up.
+// receiver area, so the target holds the irradiance of the refracted wavefront: no gaps
+// where photons spread, no blur where they focus, folds add up.
 //   - Each photon lends a sixth of its flux to each of the six triangles it is a corner of
-//     (a triangle's flux is the sum of its corners' over six), so the mesh carries exactly
-//     the flux the paper's points would.
+//     (a triangle's flux is the sum of its corners' over six), so the mesh carries the flux
+//     the paper's points would.
 //   - A folded triangle (flipped by a caustic) keeps |area|.
+//   - Irradiance is per vertex, interpolated across the triangle, as the survey advises: a
+//     photon's is the flux over the area of the drawn triangles around it (those of this
+//     invocation). Flat per-triangle values showed every cell's facet, and a fold's sliver
+//     next to ordinary triangles was a spike.
 //   - Rasterised, the mesh's triangles tile the receivers, so each pixel centre samples the
-//     irradiance of exactly one per sheet of the wavefront. A triangle much smaller than a
-//     pixel would be a firefly: of area a px², it covers a centre with probability about a
-//     and then deposits 1/a times its flux. One under SLIVER_PIXELS draws as one whole pixel
-//     at its centroid instead, which covers exactly one centre and deposits exactly its
-//     flux. Measured on the tank at 320×200 against the reference (relative RMSE, flux):
-//     threshold 0 (all rasterised) 3.44, −6.2 %; 0.125 px² 0.86, −3.1 %; 0.5 px² 0.66,
-//     −2.4 %; 1 px² 0.68, −2.4 %. Above 0.5 px² the squares leave holes where photons are
-//     merely dense (distant floors), and rasterising only the unfocused ones (E < 2 E_surface)
-//     read 0.98, −5.1 %.
+//     wavefront's irradiance once per sheet. A triangle much smaller than a pixel would be a
+//     firefly: of area a px², it covers a centre with probability about a and then deposits
+//     1/a times its flux. One under SLIVER_PIXELS draws as one whole pixel at its centroid
+//     instead, which covers exactly one centre and deposits exactly its flux.
 //   - A triangle that spans a discontinuity (a corner that did not land, or corners on
 //     different receivers: a wall and the floor, a box top and the floor) would smear light
 //     over what lies between; its flux goes back to its landed corners, which draw it as
 //     the paper's points.
+// Measured on the tank at 320×200 against the reference (relative RMSE, flux), flat values:
+// threshold 0 (all rasterised) 3.44, −6.2 %; 0.125 px² 0.86, −3.1 %; 0.5 px² 0.66, −2.4 %;
+// 1 px² 0.68, −2.4 % (above 0.5 px² squares leave holes on distant floors, where photons
+// are merely dense). Per-vertex values at 0.5 px²: 0.70, +0.6 %, without the facets.
 #include "caustic_splat.glsl"
 
 const float SLIVER_PIXELS = 0.5; // px²; see above
@@ -43,7 +46,7 @@ layout(constant_id = 0) const uint SUBDIVISION = 2;
 layout(push_constant) uniform GridPush { uint grid; } pc;
 
 layout(location = 0) flat in uvec2 v_cell[];
-layout(location = 0) flat out vec3 g_irradiance; // irradiance / E_surface
+layout(location = 0) out vec3 g_irradiance; // irradiance / E_surface, interpolated per vertex
 
 // The invocation's photons, row by row, SUBDIVISION + 1 per row.
 vec3 hit[MAX_PHOTONS];
@@ -52,6 +55,8 @@ vec3 normal[MAX_PHOTONS];    // the receiver's, from the light's normal map
 vec4 clip[MAX_PHOTONS];
 bool landed[MAX_PHOTONS];
 vec3 returned[MAX_PHOTONS];  // flux handed back by triangles that span a discontinuity
+vec3 around_flux[MAX_PHOTONS]; // sums over the drawn triangles around each photon
+float around_area[MAX_PHOTONS];
 
 void emit_square(CausticSplat s) {
     vec2 half_size = s.size / frame.caustic_target_size; // NDC per pixel is 2 / size
@@ -79,16 +84,32 @@ vec2 target_pixel(vec4 c) {
     return (c.xy / c.w * 0.5 + 0.5) * frame.caustic_target_size;
 }
 
-void emit_triangle(int a, int b, int c) {
-    vec3 share = (flux[a] + flux[b] + flux[c]) / 6.0;
+float triangle_area(int a, int b, int c) {
+    return 0.5 * length(cross(hit[b] - hit[a], hit[c] - hit[a])); // m², |.| for folds
+}
+
+// First pass over a triangle: a triangle on one receiver lends its flux and area to its
+// corners' irradiance; one that spans a discontinuity hands its flux back to them.
+void gather_triangle(int a, int b, int c) {
     if (!one_receiver(a, b, c)) {
-        // Back to the corners that landed, in proportion to what each lent.
         returned[a] += flux[a] / 6.0;
         returned[b] += flux[b] / 6.0;
         returned[c] += flux[c] / 6.0;
         return;
     }
-    float area = 0.5 * length(cross(hit[b] - hit[a], hit[c] - hit[a])); // m², |.| for folds
+    vec3 share = (flux[a] + flux[b] + flux[c]) / 6.0;
+    float area = triangle_area(a, b, c);
+    around_flux[a] += share; around_flux[b] += share; around_flux[c] += share;
+    around_area[a] += area; around_area[b] += area; around_area[c] += area;
+}
+
+vec3 photon_irradiance(int k) {
+    return around_flux[k] / (max(around_area[k], 1e-20) * frame.surface_irradiance);
+}
+
+void emit_triangle(int a, int b, int c) {
+    if (!one_receiver(a, b, c)) return;
+    float area = triangle_area(a, b, c);
     bool in_front = min(min(clip[a].w, clip[b].w), clip[c].w) > frame.z_near;
     float pixels = 1e30; // a triangle through the near plane is clipped, not sized
     if (in_front) {
@@ -96,16 +117,16 @@ void emit_triangle(int a, int b, int c) {
         vec2 u = pb - pa, v = pc - pa;
         pixels = 0.5 * abs(u.x * v.y - u.y * v.x);
     }
-    vec3 irradiance = share / (area * frame.surface_irradiance);
     if (pixels < SLIVER_PIXELS || !(area > 1e-12)) {
         CausticSplat s;
+        vec3 share = (flux[a] + flux[b] + flux[c]) / 6.0;
         if (caustic_square((hit[a] + hit[b] + hit[c]) / 3.0, share, 1.0, s)) emit_square(s);
         return;
     }
     // Outputs are undefined after each EmitVertex: set them for every vertex.
-    gl_Position = clip[a]; g_irradiance = irradiance; EmitVertex();
-    gl_Position = clip[b]; g_irradiance = irradiance; EmitVertex();
-    gl_Position = clip[c]; g_irradiance = irradiance; EmitVertex();
+    gl_Position = clip[a]; g_irradiance = photon_irradiance(a); EmitVertex();
+    gl_Position = clip[b]; g_irradiance = photon_irradiance(b); EmitVertex();
+    gl_Position = clip[c]; g_irradiance = photon_irradiance(c); EmitVertex();
     EndPrimitive();
 }
 
@@ -129,10 +150,19 @@ void main() {
                 ? normalize(texelFetch(light_normal, texel, 0).xyz + 1e-6) : vec3(0.0);
             clip[k] = frame.camera_view_proj * vec4(ph.hit, 1.0);
             returned[k] = vec3(0.0);
+            around_flux[k] = vec3(0.0);
+            around_area[k] = 0.0;
         }
     }
     // Mesh cell (i, j) spans photons (i, j), (i+1, j), (i, j+1), (i+1, j+1); its diagonal
     // runs from (i+1, j) to (i, j+1).
+    for (int j = 0; j + 1 < side; ++j) {
+        for (int i = 0; i + 1 < side; ++i) {
+            int p00 = j * side + i, p10 = p00 + 1, p01 = p00 + side, p11 = p01 + 1;
+            gather_triangle(p00, p10, p01);
+            gather_triangle(p10, p11, p01);
+        }
+    }
     for (int j = 0; j + 1 < side; ++j) {
         for (int i = 0; i + 1 < side; ++i) {
             int p00 = j * side + i, p10 = p00 + 1, p01 = p00 + side, p11 = p01 + 1;
