@@ -9,7 +9,7 @@ use crate::headless::SceneRenderer;
 use crate::image_io::HdrImage;
 use crate::passes::PassId;
 use crate::passes::PhotonPath;
-use crate::scene::Scene;
+use crate::scene::{CausticEstimator, Scene};
 use crate::vk::device::Device;
 use anyhow::{bail, Result};
 use ash::vk;
@@ -27,6 +27,9 @@ pub struct BenchConfig {
     pub godray_grid: u32,
     /// Geometry-shader subdivision of both grids (the paper: 2, i.e. ×4 photons).
     pub subdivision: u32,
+    /// The caustic estimator (the paper's points), and its own subdivision where it differs.
+    pub caustic_estimator: CausticEstimator,
+    pub caustic_subdivision: Option<u32>,
     /// Effect targets as fractions of the output; `None` keeps the scene's.
     pub caustic_target_scale: Option<f32>,
     pub godray_target_scale: Option<f32>,
@@ -50,6 +53,8 @@ pub fn configs() -> Vec<BenchConfig> {
         caustic_grid: 200,
         godray_grid: 100,
         subdivision: 2,
+        caustic_estimator: CausticEstimator::Paper,
+        caustic_subdivision: None,
         // 512² and 128² at 800².
         caustic_target_scale: Some(0.64),
         godray_target_scale: Some(0.16),
@@ -82,6 +87,16 @@ pub fn configs() -> Vec<BenchConfig> {
             paper_fps: "20",
             ..base.clone()
         },
+        // Not in the paper: the triangle estimator as the built-in scenes ship it, at about
+        // paper-800's cost (docs/accuracy.md), with paper-800's godrays.
+        BenchConfig {
+            name: "triangles-800",
+            caustic_estimator: CausticEstimator::Triangles,
+            caustic_grid: 100,
+            caustic_subdivision: Some(3),
+            paper_fps: "-",
+            ..base.clone()
+        },
         // Not in the paper: its camera stays under the water.
         BenchConfig { name: "above-800", camera_above: true, paper_fps: "-", ..base.clone() },
         BenchConfig { name: "tiny", width: 96, height: 96, caustic_grid: 16, godray_grid: 8, paper_fps: "-", ..base },
@@ -95,8 +110,9 @@ impl BenchConfig {
         let e = &mut s.effects;
         e.caustic_grid = self.caustic_grid;
         e.godray_grid = self.godray_grid;
-        e.caustic_subdivision = self.subdivision;
+        e.caustic_subdivision = self.caustic_subdivision.unwrap_or(self.subdivision);
         e.godray_subdivision = self.subdivision;
+        e.caustic_estimator = self.caustic_estimator;
         if let Some(v) = self.caustic_target_scale {
             e.caustic_target_scale = v;
         }
@@ -444,6 +460,11 @@ mod tests {
         // 0.32 × 1440×850 is the paper's 460×272 godray target (to the pixel, rounded).
         assert_eq!(((1440.0 * 0.32f32).round(), (850.0 * 0.32f32).round()), (461.0, 272.0));
         assert!(!c.iter().find(|c| c.name == "paper-1m-photons").unwrap().filter);
+        // The paper's configurations use the paper's estimator whatever the scene ships.
+        assert!(c
+            .iter()
+            .filter(|c| c.name.starts_with("paper"))
+            .all(|c| c.caustic_estimator == CausticEstimator::Paper));
     }
 }
 

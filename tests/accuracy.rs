@@ -17,8 +17,10 @@ use underlight::vk::vk;
 
 const TIME: f32 = 1.0;
 const OUTPUT: [u32; 2] = [160, 160];
-/// `default_settings_error_on_the_tank`'s figure on lavapipe (docs/accuracy.md).
-const DEFAULT_RMSE_MEASURED: f64 = 1.68;
+/// `default_settings_error_on_the_tank`'s figure on lavapipe (docs/accuracy.md): 1.68 with
+/// the paper's points, 1.69 with the triangle estimator the scenes ship since. At 512² the
+/// reference's 8M photons leave about 30 per pixel, and its own noise is most of the figure.
+const DEFAULT_RMSE_MEASURED: f64 = 1.69;
 
 fn tank() -> Scene {
     underlight::scene::load("tank").unwrap()
@@ -75,6 +77,8 @@ fn error_falls_as_the_photon_grid_grows() {
         .map(|&grid| {
             let mut s = tank();
             s.output = OUTPUT;
+            s.effects.caustic_estimator = underlight::scene::CausticEstimator::Paper;
+            s.effects.caustic_subdivision = 2;
             s.effects.caustic_grid = grid;
             s.effects.point_size_min = 1.0;
             s.effects.point_size_max = 1.0;
@@ -92,8 +96,9 @@ fn error_falls_as_the_photon_grid_grows() {
 #[test]
 fn default_settings_error_on_the_tank() {
     // The tank as it ships (800×800, its effects): the bounds are regression guards, stated
-    // with what they catch. Energy must be where the reference puts it: measured +0.3 %
-    // (the reference's own noise in the sum is under 0.1 % with 8M photons). A 5 % bound
+    // with what they catch. Energy must be where the reference puts it: measured +3.7 %
+    // with the triangle estimator (+0.3 % with the paper's points; the reference's own noise
+    // in the sum is under 0.1 % with 8M photons). A 5 % bound
     // catches a photon-count normalisation error (the flux scales by the subdivision², 4×),
     // a lost attenuation to the receiver (+40 % over the tank's 2 m), a light window that
     // misses where photons enter (a third lost at a low sun), or a twentieth of the photons
@@ -103,9 +108,9 @@ fn default_settings_error_on_the_tank() {
     let errors = caustic_errors(&[(format!("tank {}×{} as shipped", scene.output[0], scene.output[1]), scene)]);
     let (rmse, flux) = errors[0];
     assert!(flux.abs() < 0.05, "default settings: caustic flux error {flux:+.3}");
-    // Relative RMSE is mostly the splats' blur (tests above); the guard is the measured
-    // figure with 15 % headroom for other drivers' rasterisation, and trips when splats
-    // grow or land in the wrong place.
+    // Relative RMSE here is mostly the reference's noise (above); the guard is the measured
+    // figure with 15 % headroom for other drivers' rasterisation, and trips when light lands
+    // in the wrong place.
     assert!(rmse < DEFAULT_RMSE_MEASURED * 1.15, "default settings: caustic relative RMSE {rmse:.3}");
 }
 

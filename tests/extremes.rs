@@ -176,6 +176,49 @@ fn water_from_flat_to_violent_and_late() {
     assert_clean_shutdown(ctx);
 }
 
+/// The triangle estimator (glsl/caustics_triangles.geom) through the same extremes as the
+/// paper's points: grazing and straight-down sun, violent and centimetre waves, the
+/// smallest grid and its largest subdivision. Each frame is finite and clean, puts no more
+/// light on the floor than enters the water, and on flat water puts as much there as the
+/// points do (both carry the same photons; only where they draw them differs).
+#[test]
+fn triangle_estimator_at_the_extremes() {
+    use underlight::scene::CausticEstimator;
+    let ctx = validated_context();
+    let triangles = |mut s: Scene| {
+        s.effects.caustic_estimator = CausticEstimator::Triangles;
+        s.effects.caustic_subdivision =
+            s.effects.caustic_subdivision.min(underlight::shader_math::TRIANGLE_MAX_SUBDIVISION);
+        s
+    };
+    for elevation in [90.0f32, 30.0, 10.0, 1.0] {
+        let mut s = overview(0.0);
+        s.light.direction = if elevation == 90.0 { Vec3::NEG_Y } else { sun(elevation, 30.0) };
+        let points = overview_flux(&ctx, &s, 0.0, &format!("points, sun at {elevation}°"));
+        let tri = overview_flux(&ctx, &triangles(s), 0.0, &format!("triangles, sun at {elevation}°"));
+        assert!(tri > 0.0, "triangles: nothing on the floor at {elevation}°");
+        assert!(
+            (tri / points - 1.0).abs() < 0.05,
+            "flat water, sun at {elevation}°: points {points} W, triangles {tri} W"
+        );
+    }
+    let mut violent = overview(0.3);
+    violent.water.wavelength = 0.5;
+    overview_flux(&ctx, &triangles(violent), 0.7, "triangles, violent waves");
+    let mut short = overview(0.002);
+    short.water.wavelength = 0.01;
+    overview_flux(&ctx, &triangles(short), 0.0, "triangles, 1 cm wavelength");
+    let mut one = overview(0.04);
+    one.effects.caustic_grid = 1;
+    one.effects.caustic_subdivision = 1;
+    overview_flux(&ctx, &triangles(one), 0.0, "triangles, 1×1 photon grid");
+    let mut most = overview(0.04);
+    most.effects.caustic_grid = 24;
+    most.effects.caustic_subdivision = underlight::shader_math::TRIANGLE_MAX_SUBDIVISION;
+    overview_flux(&ctx, &triangles(most), 0.0, "triangles, subdivision at the output limit");
+    assert_clean_shutdown(ctx);
+}
+
 #[test]
 fn medium_at_its_limits() {
     let ctx = validated_context();

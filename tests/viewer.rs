@@ -39,17 +39,21 @@ fn viewer_sessions_under_xvfb() {
     std::fs::create_dir_all(&dir).unwrap();
 
     // 1. A scripted session. Frames: 3 + 2 + (2 while minimised: none presented) + 2 + 2 + 2
-    //    + 1 + 1 = 13 presented.
+    //    + 1 + 1 + 1 = 14 presented.
     let shot = dir.join("scripted.png");
     let script = format!(
         "frames:3,resize:320x200,frames:2,minimize,frames:2,restore,frames:2,toggle:caustics,frames:2,\
          toggle:caustics,toggle:godrays,water,amplitude:2,move:0.2/0/0.5,look:20/-10,frames:2,\
-         preset:high,frames:1,preset:default,toggle:godrays,screenshot:{},frames:1",
+         preset:high,frames:1,preset:default,toggle:godrays,screenshot:{},frames:1,estimator,frames:1",
         shot.display()
     );
     let out = under_xvfb(&["view", "--scene", "tank", "--width", "240", "--height", "240", "--script", &script]);
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(stdout.contains("presented 13 frames"), "{stdout}");
+    assert!(stdout.contains("presented 14 frames"), "{stdout}");
+    // The estimator step switched to the one the tank does not ship.
+    let shipped = underlight::scene::load("tank").unwrap().effects.caustic_estimator;
+    let other = underlight::scene::CausticEstimator::ALL.into_iter().find(|e| *e != shipped).unwrap();
+    assert!(stdout.contains(&format!("caustic estimator: {}", other.name())), "{stdout}");
     // The timing line names every pass of the frame plus the blit to the window.
     for pass in ["shadow", "scene", "caustics", "godrays", "filter", "compose", "present"] {
         assert!(stdout.contains(&format!("{pass} ")), "no {pass} time in:\n{stdout}");

@@ -22,7 +22,7 @@ use crate::passes::scene::{Background, ScenePass, SurfaceInputs};
 use crate::passes::shadow::ShadowPass;
 use crate::passes::PassId;
 use crate::passes::{photon_set_index, PHOTON_SETS};
-use crate::scene::Scene;
+use crate::scene::{CausticEstimator, Scene};
 use crate::shader_math::NoiseTexture;
 use crate::vk::buffer::Buffer;
 use crate::vk::commands::FRAMES_IN_FLIGHT;
@@ -57,6 +57,10 @@ pub struct FramePlan {
     /// surface seen from above exist) for a camera above it (`FramePlan::schedule`).
     under_water: Vec<PassId>,
     from_above: Option<Vec<PassId>>,
+    /// The filter pass smooths the caustic buffer too: only the paper's point splats need it
+    /// (the triangle estimator's buffer is already the irradiance of a surface, and the
+    /// filter measured worse on it: docs/accuracy.md).
+    pub filters_caustics: bool,
 }
 
 /// The frame's passes in recording order, for a camera under the water and for one that
@@ -144,15 +148,21 @@ impl FramePlan {
                 100.0 * scene.effects.godray_target_scale
             )
         };
-        let filter = scene.effects.filter && (caustics || godrays);
+        let filters_caustics =
+            scene.effects.filter && caustics && scene.effects.caustic_estimator == CausticEstimator::Paper;
+        let filter = filters_caustics || (scene.effects.filter && godrays);
         let filter_why = if !scene.effects.filter {
             "off in the scene's effects".to_string()
         } else if !filter {
-            "no photon buffer to filter".to_string()
+            if caustics {
+                "no photon buffer to filter (the triangle estimator's caustics need none)".to_string()
+            } else {
+                "no photon buffer to filter".to_string()
+            }
         } else {
             format!(
                 "low-pass over the {} buffer(s)",
-                [(caustics, "caustic"), (godrays, "godray")]
+                [(filters_caustics, "caustic"), (godrays, "godray")]
                     .iter()
                     .filter(|e| e.0)
                     .map(|e| e.1)
@@ -212,7 +222,7 @@ impl FramePlan {
         decisions.sort_by_key(|d| FROM_ABOVE_ORDER.iter().position(|p| *p == d.0));
         let own_camera_above = from_above.is_some() && camera_sees_surface_from_above(scene);
         let passes = if own_camera_above { from_above.clone().unwrap_or_default() } else { under_water.clone() };
-        Self { passes, decisions, under_water, from_above }
+        Self { passes, decisions, under_water, from_above, filters_caustics }
     }
 
     /// Whether the frame creates this pass (it may record it only in some frames: the
@@ -412,7 +422,7 @@ impl Frame {
             None
         };
         let filtering = plan.runs(PassId::Filter);
-        let caustic_filter = match (&caustics, filtering) {
+        let caustic_filter = match (&caustics, filtering && plan.filters_caustics) {
             (Some(c), true) => {
                 Some(FilterPass::new(device, "caustics filter", &c.target.image, CAUSTIC_FILTER_RADIUS_PX)?)
             }

@@ -113,7 +113,8 @@ pub struct Medium {
 }
 
 /// How the caustics pass turns landed photons into irradiance (`effects.caustic_estimator`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum CausticEstimator {
     /// The paper's: each photon a square point sized by its distance to the camera
     /// (`point_size_min`..`point_size_max`), its flux spread over the pixels it covers.

@@ -244,6 +244,7 @@ impl Live {
         println!("device: {}", ctx.device.info.describe());
         println!(
             "keys: WASD/QE move (Shift faster), right-drag or arrows look, 1/2/3 caustics/godrays/filter, \
+             4 caustic estimator, \
              M water model, +/- amplitude, P pause, N step, H/L high/default preset, R reset camera, \
              I settings, F12 screenshot, Esc quit"
         );
@@ -346,6 +347,24 @@ impl Live {
         self.rebuild_current()
     }
 
+    /// The next caustic estimator (paper's points, triangles). The triangles' geometry shader
+    /// takes at most TRIANGLE_MAX_SUBDIVISION; a finer subdivision is lowered to it.
+    fn next_estimator(&mut self) -> Result<()> {
+        use crate::scene::CausticEstimator;
+        let e = &mut self.scene.effects;
+        e.caustic_estimator = match e.caustic_estimator {
+            CausticEstimator::Paper => CausticEstimator::Triangles,
+            CausticEstimator::Triangles => CausticEstimator::Paper,
+        };
+        let max = crate::shader_math::TRIANGLE_MAX_SUBDIVISION;
+        if e.caustic_estimator == CausticEstimator::Triangles && e.caustic_subdivision > max {
+            println!("caustic subdivision {} lowered to {max} for the triangle estimator", e.caustic_subdivision);
+            e.caustic_subdivision = max;
+        }
+        println!("caustic estimator: {}", e.caustic_estimator.name());
+        self.rebuild_current()
+    }
+
     fn preset(&mut self, preset: Preset) -> Result<()> {
         let e = &mut self.scene.effects;
         match preset {
@@ -362,6 +381,7 @@ impl Live {
                 let d = &self.loaded.effects;
                 e.caustic_grid = d.caustic_grid;
                 e.caustic_subdivision = d.caustic_subdivision;
+                e.caustic_estimator = d.caustic_estimator;
                 e.godray_grid = d.godray_grid;
                 e.godray_subdivision = d.godray_subdivision;
                 e.point_size_min = d.point_size_min;
@@ -400,6 +420,7 @@ impl Live {
             KeyCode::Digit1 => self.toggle(Effect::Caustics)?,
             KeyCode::Digit2 => self.toggle(Effect::Godrays)?,
             KeyCode::Digit3 => self.toggle(Effect::Filter)?,
+            KeyCode::Digit4 => self.next_estimator()?,
             KeyCode::KeyM => self.next_water(),
             KeyCode::Equal | KeyCode::NumpadAdd => self.scale_amplitude(1.25),
             KeyCode::Minus | KeyCode::NumpadSubtract => self.scale_amplitude(0.8),
@@ -421,7 +442,7 @@ impl Live {
         let s = &self.scene;
         let e = &s.effects;
         println!(
-            "scene {:?}: camera {:.2} yaw {:.1}° pitch {:.1}°; water {:?} amplitude {} m; caustics {} ({}²×{}²), \
+            "scene {:?}: camera {:.2} yaw {:.1}° pitch {:.1}°; water {:?} amplitude {} m; caustics {} ({}²×{}², {}), \
              godrays {} ({}²×{}²), filter {}; points {}–{} px; time {:.2} s{}",
             s.name,
             self.camera.position,
@@ -432,6 +453,7 @@ impl Live {
             e.caustics,
             e.caustic_grid,
             e.caustic_subdivision,
+            e.caustic_estimator.name(),
             e.godrays,
             e.godray_grid,
             e.godray_subdivision,
@@ -490,6 +512,7 @@ impl Live {
                     self.resize(size)?;
                 }
                 Step::Toggle(effect) => self.toggle(effect)?,
+                Step::NextEstimator => self.next_estimator()?,
                 Step::NextWater => self.next_water(),
                 Step::Amplitude(f) => self.scale_amplitude(f),
                 Step::Move(r, u, f) => self.camera.translate(r, u, f),

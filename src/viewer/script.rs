@@ -15,6 +15,8 @@ pub enum Step {
     Restore,
     /// Switch an effect on or off (rebuilds the frame: passes and targets follow the scene).
     Toggle(Effect),
+    /// Switch to the next caustic estimator (the paper's points, triangles).
+    NextEstimator,
     /// Switch to the other water model.
     NextWater,
     /// Scale the wave amplitude by this factor.
@@ -71,6 +73,7 @@ pub fn parse(text: &str) -> Result<Vec<Step>> {
                 _ => bail!("{}: toggle caustics, godrays or filter", bad()),
             }),
             "water" => Step::NextWater,
+            "estimator" => Step::NextEstimator,
             "amplitude" => Step::Amplitude(floats(1)?[0]),
             "move" => {
                 let v = floats(3)?;
@@ -87,7 +90,7 @@ pub fn parse(text: &str) -> Result<Vec<Step>> {
             }),
             "screenshot" if !arg.is_empty() => Step::Screenshot(arg.to_string()),
             _ => bail!(
-                "{}: unknown step; steps are frames:N, resize:WxH, minimize, restore, toggle:EFFECT, water, \
+                "{}: unknown step; steps are frames:N, resize:WxH, minimize, restore, toggle:EFFECT, estimator, water, \
                  amplitude:F, move:R/U/F, look:YAW/PITCH, preset:default|high, screenshot:PATH",
                 bad()
             ),
