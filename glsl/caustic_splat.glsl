@@ -50,6 +50,6 @@ bool caustic_splat(Photon ph, out CausticSplat s) {
     // wherever it lands, so each photon deposits exactly its flux (a fractional size covers
     // floor² or ceil² pixels depending on its sub-pixel position).
     size = clamp(round(size), 1.0, floor(frame.device_max_point_size));
-    return caustic_square(ph.hit, ph.flux * exp(-frame.attenuation * ph.travelled), size, s);
+    return caustic_square(ph.hit, ph.flux * water_transmittance(ph.travelled), size, s);
 }
 #endif

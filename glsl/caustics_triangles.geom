@@ -161,7 +161,7 @@ void main() {
             Photon ph;
             landed[k] = cast_photon(uv, photons_per_axis, ph);
             hit[k] = ph.hit;
-            flux[k] = landed[k] ? ph.flux * exp(-frame.attenuation * ph.travelled) : vec3(0.0);
+            flux[k] = landed[k] ? ph.flux * water_transmittance(ph.travelled) : vec3(0.0);
             ivec2 texel;
             normal[k] = landed[k] && light_texel(ph.hit, texel)
                 ? normalize(texelFetch(light_normal, texel, 0).xyz + 1e-6) : vec3(0.0);

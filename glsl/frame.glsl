@@ -100,6 +100,12 @@ float linear_view_depth(float depth) {
 // a surface whose normal makes cosine `cos_view` with the ray; `cos_axis` is the cosine
 // between the ray and the camera axis (a pinhole's pixel solid angle shrinks by cos³).
 // Grazing views are clamped (cos ≥ 0.2) so a splat cannot blow up to infinity.
+// Transmittance of `metres` of water per RGB channel, e^(−γ·d): the one place the medium's
+// attenuation is applied (photons to their hit, beams, the view ray, the ambient light).
+vec3 water_transmittance(float metres) {
+    return exp(-frame.attenuation * metres);
+}
+
 float pixel_world_area(float d, float cos_view, float cos_axis, float height_px) {
     float side = 2.0 * frame.tan_half_fov_y / height_px;
     return side * side * cos_axis * cos_axis * cos_axis * d * d / max(cos_view, 0.2);

@@ -20,7 +20,7 @@ vec3 beam_radiance(vec3 world, float from_surface, vec3 direction, float flux, f
     float line_w = clamp(frame.line_width, 1.0, frame.device_max_line_width);
     float l_pix = view_depth * 2.0 * frame.tan_half_fov_y / frame.godray_target_size.y;
     float d_view_water = view_underwater_length(world);
-    vec3 attenuation = exp(-frame.attenuation * (from_surface + d_view_water));
+    vec3 attenuation = water_transmittance(from_surface + d_view_water);
     // sin θ is clamped: a beam seen end-on would otherwise concentrate into one pixel.
     vec3 L = frame.scattering * henyey_greenstein(cos_t, frame.hg_g) * flux * attenuation
            / (max(sin_t, 0.1) * line_w * l_pix);

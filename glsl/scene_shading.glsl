@@ -40,6 +40,6 @@ void main() {
 #ifndef COLOR_ONLY
     // The refraction view leaves the water on the way to the camera to the surface.
     float d = VIEW == VIEW_CAMERA ? view_underwater_length(v_world) : 0.0;
-    out_albedo_transmittance = under ? vec4(brdf * exp(-frame.attenuation * d), 0.0) : vec4(0.0);
+    out_albedo_transmittance = under ? vec4(brdf * water_transmittance(d), 0.0) : vec4(0.0);
 #endif
 }

@@ -29,7 +29,7 @@ vec3 pixel_ray(vec2 uv) {
 // the water above the point; a receiver facing down gets less of it.
 vec3 ambient_irradiance(vec3 p, vec3 n) {
     float depth = max(frame.water_level - p.y, 0.0);
-    return frame.ambient_irradiance * exp(-frame.attenuation * depth) * (0.6 + 0.4 * n.y);
+    return frame.ambient_irradiance * water_transmittance(depth) * (0.6 + 0.4 * n.y);
 }
 
 // Radiance the water itself sends towards the viewer from in-scattered ambient light
@@ -55,7 +55,7 @@ float view_underwater_length(vec3 p) {
 // Thesis eq. 4–5 per channel: radiance L seen through d metres of water fades to the water's
 // own colour (its in-scattered glow) with transmittance e^(−γd).
 vec3 through_water_length(vec3 L, float d) {
-    vec3 t = exp(-frame.attenuation * d);
+    vec3 t = water_transmittance(d);
     return water_fog_radiance() + t * (L - water_fog_radiance());
 }
 
