@@ -364,9 +364,9 @@ pub fn mark_pareto(rows: &mut [SweepRow]) {
 
 pub fn csv(rows: &[SweepRow]) -> String {
     let mut s = String::from(
-        "caustic_grid,caustic_subdivision,caustic_photons,iterations,caustic_target_w,caustic_target_h,point_size_max,\
+        "estimator,caustic_grid,caustic_subdivision,caustic_photons,iterations,caustic_target_w,caustic_target_h,point_size_max,\
          line_width,filter,effect_ms,frame_ms,caustic_rel_rmse,caustic_mean_rel_error,caustic_flux_error,\
-         godray_rel_rmse,godray_mean_rel_error,godray_flux_error,flip,caustic_change_gpu,caustic_change_reference,pareto,estimator\n",
+         godray_rel_rmse,godray_mean_rel_error,godray_flux_error,flip,caustic_change_gpu,caustic_change_reference,pareto\n",
     );
     let opt = |e: Option<BufferError>| match e {
         Some(e) => format!("{:.5},{:.5},{:.5}", e.relative_rmse, e.mean_relative_error, e.flux_error),
@@ -374,7 +374,8 @@ pub fn csv(rows: &[SweepRow]) -> String {
     };
     for r in rows {
         s += &format!(
-            "{},{},{},{},{},{},{},{},{},{:.3},{:.3},{},{},{:.5},{:.5},{:.5},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{},{},{:.5},{:.5},{:.5},{}\n",
+            r.estimator,
             r.caustic_grid,
             r.caustic_subdivision,
             r.caustic_photons,
@@ -391,8 +392,7 @@ pub fn csv(rows: &[SweepRow]) -> String {
             r.flip,
             r.caustic_change_gpu,
             r.caustic_change_reference,
-            r.pareto,
-            r.estimator
+            r.pareto
         );
     }
     s

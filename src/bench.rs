@@ -239,6 +239,10 @@ pub fn compare_paths(
             eprintln!("  {}: skipped, {} lacks shaderBufferFloat32AtomicAdd", path.name(), device.info.name);
             continue;
         }
+        if path != PhotonPath::GeometryShader && config.caustic_estimator == CausticEstimator::Triangles {
+            eprintln!("  {}: skipped, the triangle estimator is the geometry shader's alone", path.name());
+            continue;
+        }
         eprintln!("  {} path…", path.name());
         let (mut result, buffers) = measure(device, scene, config, frames, warmup, path, true)?;
         let buffers = buffers.expect("measure reads the buffers back when asked");
@@ -288,7 +292,8 @@ fn measure(
         }
     }
     let totals = measured.iter().map(|t| t.total_ms()).collect();
-    let n = |grid: u32| (grid as u64 * config.subdivision as u64).pow(2);
+    let n = |grid: u32, subdivision: u32| (grid as u64 * subdivision as u64).pow(2);
+    let caustic_subdivision = config.caustic_subdivision.unwrap_or(config.subdivision);
     let buffers = if read_buffers {
         let (_, images) = renderer.render(1, 0.0, 0.0, true)?;
         images.map(|i| [i.caustics, i.godrays])
@@ -300,8 +305,16 @@ fn measure(
         photon_path: path,
         scene: s.name.clone(),
         frames: measured.len(),
-        caustic_photons: if renderer.frame.plan.runs(PassId::Caustics) { n(config.caustic_grid) } else { 0 },
-        godray_photons: if renderer.frame.plan.runs(PassId::Godrays) { n(config.godray_grid) } else { 0 },
+        caustic_photons: if renderer.frame.plan.runs(PassId::Caustics) {
+            n(config.caustic_grid, caustic_subdivision)
+        } else {
+            0
+        },
+        godray_photons: if renderer.frame.plan.runs(PassId::Godrays) {
+            n(config.godray_grid, config.subdivision)
+        } else {
+            0
+        },
         passes,
         total: stats("total", totals),
         caustic_difference: None,

@@ -72,8 +72,16 @@ fn viewer_memory_is_flat_over_300_frames_under_xvfb() {
             .unwrap()
             .replace("obj = \"tank.obj\"", &format!("obj = {:?}", tank_obj.display().to_string()));
     let scene = dir.join("small_tank.toml");
-    std::fs::write(&scene, format!("{text}\n[effects]\ncaustic_grid = 24\ngodray_grid = 12\nshadow_map_size = 64\n"))
-        .unwrap();
+    // The built-in scenes end with their [effects] table: the small grids go into it.
+    let text = match text.find("\ncaustic_grid = ") {
+        Some(at) => {
+            let end = text[at + 1..].find('\n').map_or(text.len(), |e| at + 1 + e);
+            format!("{}\ncaustic_grid = 24{}", &text[..at], &text[end..])
+        }
+        None => format!("{text}\n[effects]\ncaustic_grid = 24\n"),
+    };
+    assert!(text.trim_end().rsplit("\n[").next().unwrap().starts_with("effects]"), "[effects] is not the last table");
+    std::fs::write(&scene, format!("{}\ngodray_grid = 12\nshadow_map_size = 64\n", text.trim_end())).unwrap();
     let out = Command::new("xvfb-run")
         .args(["-a", "-s", "-screen 0 640x480x24", env!("CARGO_BIN_EXE_underlight"), "--validation", "view"])
         .args(["--scene", scene.to_str().unwrap(), "--width", "48", "--height", "32", "--frames", &FRAMES.to_string()])

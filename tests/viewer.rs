@@ -90,8 +90,10 @@ fn viewer_sessions_under_xvfb() {
     let port = std::fs::read_to_string(scenes.join("port.toml")).unwrap();
     let wide = dir.join("wide-lines.toml");
     let obj = scenes.join("port.obj");
-    let text = port.replace("obj = \"port.obj\"", &format!("obj = {:?}", obj.to_str().unwrap()))
-        + "\n[effects]\nline_width = 100000.0\n";
+    // The built-in scenes end with their [effects] table: the line width goes into it.
+    assert!(port.trim_end().rsplit("\n[").next().unwrap().starts_with("effects]"), "[effects] is not the last table");
+    let text = port.replace("obj = \"port.obj\"", &format!("obj = {:?}", obj.to_str().unwrap())).trim_end().to_string()
+        + "\nline_width = 100000.0\n";
     std::fs::write(&wide, text).unwrap();
     let out = under_xvfb(&[
         "view",
