@@ -91,9 +91,9 @@ struct ReferenceArgs {
     #[arg(long, default_value = "out/reference")]
     out: PathBuf,
     /// Output size the buffers belong to (the effect targets scale from it); defaults to the scene's.
-    #[arg(long)]
+    #[arg(long, value_parser = output_side)]
     width: Option<u32>,
-    #[arg(long)]
+    #[arg(long, value_parser = output_side)]
     height: Option<u32>,
     /// Animation time, seconds (the same default as `render`'s first frame).
     #[arg(long, default_value_t = 1.0)]
@@ -112,9 +112,9 @@ struct SweepArgs {
     #[arg(long, default_value = "tank")]
     scene: String,
     /// Output size (small by default: every setting renders and is compared at this size).
-    #[arg(long, default_value_t = 240)]
+    #[arg(long, value_parser = output_side, default_value_t = 240)]
     width: u32,
-    #[arg(long, default_value_t = 150)]
+    #[arg(long, value_parser = output_side, default_value_t = 150)]
     height: u32,
     /// Caustic grid cells per axis, comma-separated.
     #[arg(long, value_delimiter = ',', default_values_t = [48u32, 96, 192])]
@@ -135,8 +135,8 @@ struct SweepArgs {
     #[arg(long, value_delimiter = ',')]
     line_width: Vec<f32>,
     /// Filter on, off, or both.
-    #[arg(long, value_delimiter = ',', default_values_t = [String::from("off"), String::from("on")])]
-    filter: Vec<String>,
+    #[arg(long, value_delimiter = ',', value_enum, default_values_t = [OnOff::Off, OnOff::On])]
+    filter: Vec<OnOff>,
     /// Caustic estimators: paper, triangles (comma-separated).
     #[arg(long, value_delimiter = ',', value_parser = caustic_estimator)]
     estimator: Vec<underlight::scene::CausticEstimator>,
@@ -169,9 +169,9 @@ struct SceneArgs {
     #[arg(long, value_name = "DIR")]
     hdr: Option<PathBuf>,
     /// Output size; defaults to the scene's.
-    #[arg(long)]
+    #[arg(long, value_parser = output_side)]
     width: Option<u32>,
-    #[arg(long)]
+    #[arg(long, value_parser = output_side)]
     height: Option<u32>,
     /// Frames to render (timings are the median over them).
     #[arg(long, default_value_t = 8)]
@@ -193,6 +193,34 @@ struct SceneArgs {
     /// (distance-sized points) or triangles (warped-cell triangles).
     #[arg(long, value_name = "NAME", value_parser = caustic_estimator)]
     caustic_estimator: Option<underlight::scene::CausticEstimator>,
+}
+
+/// The largest output side a command accepts (as a scene file's `output`: docs/limits.md).
+const MAX_OUTPUT_SIDE: u32 = 16384;
+
+/// `--width` / `--height` values: whole pixels, at least 1.
+fn output_side(text: &str) -> std::result::Result<u32, String> {
+    let v: u32 = text.trim().parse().map_err(|_| format!("{text:?} is not a whole number of pixels"))?;
+    if !(1..=MAX_OUTPUT_SIDE).contains(&v) {
+        return Err(format!("must be at least 1 and at most {MAX_OUTPUT_SIDE} (got {v})"));
+    }
+    Ok(v)
+}
+
+/// `sweep --filter` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum OnOff {
+    On,
+    Off,
+}
+
+/// `view --present-mode` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum PresentModeArg {
+    /// No tearing, paced by the display.
+    Fifo,
+    Mailbox,
+    Immediate,
 }
 
 /// `--caustic-estimator` / `--estimator` values.
@@ -249,13 +277,13 @@ struct ViewArgs {
     #[arg(long, default_value = "tank")]
     scene: String,
     /// Window size; defaults to the scene's output size.
-    #[arg(long)]
+    #[arg(long, value_parser = output_side)]
     width: Option<u32>,
-    #[arg(long)]
+    #[arg(long, value_parser = output_side)]
     height: Option<u32>,
     /// fifo (default, no tearing), mailbox or immediate.
-    #[arg(long, default_value = "fifo")]
-    present_mode: String,
+    #[arg(long, value_enum, default_value_t = PresentModeArg::Fifo)]
+    present_mode: PresentModeArg,
     /// Exit after this many frames.
     #[arg(long)]
     frames: Option<u32>,
@@ -286,9 +314,9 @@ struct RenderArgs {
     /// Also write the HDR target as a PFM float dump.
     #[arg(long)]
     pfm: Option<PathBuf>,
-    #[arg(long, default_value_t = 512)]
+    #[arg(long, value_parser = output_side, default_value_t = 512)]
     width: u32,
-    #[arg(long, default_value_t = 512)]
+    #[arg(long, value_parser = output_side, default_value_t = 512)]
     height: u32,
     /// Coarse photon grid cells per axis.
     #[arg(long, default_value_t = 200)]
@@ -435,9 +463,6 @@ fn render_scene(cli: &Cli, args: &SceneArgs) -> Result<i32> {
     }
     let width = args.width.unwrap_or(scene.output[0]);
     let height = args.height.unwrap_or(scene.output[1]);
-    if width == 0 || height == 0 {
-        bail!("--width and --height must be at least 1 (got {width}×{height})");
-    }
     prepare_outputs([&args.out])?;
     if let Some(dir) = &args.hdr {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
@@ -526,9 +551,6 @@ fn effect_png_exposure(scene: &underlight::scene::Scene) -> f32 {
 fn reference(args: &ReferenceArgs) -> Result<i32> {
     let scene = underlight::scene::load(&args.scene)?;
     let output = [args.width.unwrap_or(scene.output[0]), args.height.unwrap_or(scene.output[1])];
-    if output[0] == 0 || output[1] == 0 {
-        bail!("--width and --height must be at least 1 (got {}×{})", output[0], output[1]);
-    }
     std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
     // The device's point and line limits do not enter the reference.
     let extents = underlight::frame::target_extents(&scene, output, f32::INFINITY, f32::INFINITY);
@@ -586,18 +608,7 @@ fn sweep(cli: &Cli, args: &SweepArgs) -> Result<i32> {
         bail!("sweep measures GPU time with validation off: drop --validation");
     }
     let scene = underlight::scene::load(&args.scene)?;
-    if args.width == 0 || args.height == 0 {
-        bail!("--width and --height must be at least 1 (got {}×{})", args.width, args.height);
-    }
-    let filter = args
-        .filter
-        .iter()
-        .map(|f| match f.as_str() {
-            "on" => Ok(true),
-            "off" => Ok(false),
-            other => bail!("--filter takes on and/or off, not {other:?}"),
-        })
-        .collect::<Result<Vec<bool>>>()?;
+    let filter: Vec<bool> = args.filter.iter().map(|f| *f == OnOff::On).collect();
     let axes = accuracy::SweepAxes {
         grid: args.grid.clone(),
         subdivision: args.subdiv.clone(),
@@ -759,20 +770,16 @@ fn view(cli: &Cli, args: &ViewArgs) -> Result<i32> {
             underlight::frame::FramePlan::new(&scene, true)
         );
     }
-    let present_mode = match args.present_mode.as_str() {
-        "fifo" => PresentMode::Fifo,
-        "mailbox" => PresentMode::Mailbox,
-        "immediate" => PresentMode::Immediate,
-        other => bail!("--present-mode {other:?}: use fifo, mailbox or immediate"),
+    let present_mode = match args.present_mode {
+        PresentModeArg::Fifo => PresentMode::Fifo,
+        PresentModeArg::Mailbox => PresentMode::Mailbox,
+        PresentModeArg::Immediate => PresentMode::Immediate,
     };
     let size = match (args.width, args.height) {
         (None, None) => None,
         (w, h) => {
-            let (w, h) = (w.unwrap_or(scene.output[0]), h.unwrap_or(scene.output[1]));
-            if w == 0 || h == 0 {
-                bail!("--width and --height must be at least 1 (got {w}×{h})");
-            }
-            Some((w, h))
+            // Each given side was checked as it was parsed (`output_side`); the scene's are.
+            Some((w.unwrap_or(scene.output[0]), h.unwrap_or(scene.output[1])))
         }
     };
     if args.frames == Some(0) {
@@ -809,9 +816,6 @@ fn view(cli: &Cli, args: &ViewArgs) -> Result<i32> {
 }
 
 fn grid_splat(cli: &Cli, args: &RenderArgs) -> Result<i32> {
-    if args.width == 0 || args.height == 0 {
-        bail!("--width and --height must be at least 1 (got {}×{})", args.width, args.height);
-    }
     prepare_outputs(std::iter::once(&args.out).chain(args.pfm.as_ref()))?;
     let ctx = Context::new(&context_desc(cli))?;
     let settings = GridSplatSettings {
