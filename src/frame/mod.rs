@@ -161,13 +161,18 @@ impl FramePlan {
             }
         } else {
             format!(
-                "low-pass over the {} buffer(s)",
+                "low-pass over the {} buffer(s){}",
                 [(filters_caustics, "caustic"), (godrays, "godray")]
                     .iter()
                     .filter(|e| e.0)
                     .map(|e| e.1)
                     .collect::<Vec<_>>()
-                    .join(" and ")
+                    .join(" and "),
+                if caustics && !filters_caustics {
+                    "; not the caustic buffer, which the triangle estimator draws without splat noise"
+                } else {
+                    ""
+                }
             )
         };
         let shadow = caustics || godrays;
