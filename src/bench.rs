@@ -449,38 +449,6 @@ impl BenchReport {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn quantiles_are_nearest_rank() {
-        let s = stats("x", (1..=21).rev().map(|v| v as f64).collect());
-        assert_eq!((s.p5_ms, s.median_ms, s.p95_ms), (2.0, 11.0, 20.0));
-    }
-
-    #[test]
-    fn fit_recovers_a_line() {
-        let (slope, intercept) = fit(&[(1.0, 5.0), (2.0, 7.0), (4.0, 11.0)]);
-        assert!((slope - 2.0).abs() < 1e-12 && (intercept - 3.0).abs() < 1e-12);
-    }
-
-    #[test]
-    fn paper_configs_carry_the_papers_settings() {
-        let c = configs();
-        let high = c.iter().find(|c| c.name == "paper-1440-high").unwrap();
-        assert_eq!((high.width, high.height, high.caustic_grid, high.godray_grid), (1440, 850, 400, 200));
-        // 0.32 × 1440×850 is the paper's 460×272 godray target (to the pixel, rounded).
-        assert_eq!(((1440.0 * 0.32f32).round(), (850.0 * 0.32f32).round()), (461.0, 272.0));
-        assert!(!c.iter().find(|c| c.name == "paper-1m-photons").unwrap().filter);
-        // The paper's configurations use the paper's estimator whatever the scene ships.
-        assert!(c
-            .iter()
-            .filter(|c| c.name.starts_with("paper"))
-            .all(|c| c.caustic_estimator == CausticEstimator::Paper));
-    }
-}
-
 /// One scaling series: a parameter varied over values with everything else at paper-800,
 /// and the GPU time of the pass it drives (and the total) at each value.
 #[derive(Clone, Debug, Serialize)]
@@ -591,4 +559,36 @@ pub fn scaling_table(series: &[Series]) -> String {
         );
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quantiles_are_nearest_rank() {
+        let s = stats("x", (1..=21).rev().map(|v| v as f64).collect());
+        assert_eq!((s.p5_ms, s.median_ms, s.p95_ms), (2.0, 11.0, 20.0));
+    }
+
+    #[test]
+    fn fit_recovers_a_line() {
+        let (slope, intercept) = fit(&[(1.0, 5.0), (2.0, 7.0), (4.0, 11.0)]);
+        assert!((slope - 2.0).abs() < 1e-12 && (intercept - 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn paper_configs_carry_the_papers_settings() {
+        let c = configs();
+        let high = c.iter().find(|c| c.name == "paper-1440-high").unwrap();
+        assert_eq!((high.width, high.height, high.caustic_grid, high.godray_grid), (1440, 850, 400, 200));
+        // 0.32 × 1440×850 is the paper's 460×272 godray target (to the pixel, rounded).
+        assert_eq!(((1440.0 * 0.32f32).round(), (850.0 * 0.32f32).round()), (461.0, 272.0));
+        assert!(!c.iter().find(|c| c.name == "paper-1m-photons").unwrap().filter);
+        // The paper's configurations use the paper's estimator whatever the scene ships.
+        assert!(c
+            .iter()
+            .filter(|c| c.name.starts_with("paper"))
+            .all(|c| c.caustic_estimator == CausticEstimator::Paper));
+    }
 }
