@@ -61,7 +61,7 @@ float around_pixels[MAX_PHOTONS];     // their pixels and world area, where in f
 float around_pixel_area[MAX_PHOTONS]; // camera: the receiver area per pixel near the photon
 
 void emit_square(CausticSplat s) {
-    vec2 half_size = s.size / frame.caustic_target_size; // NDC per pixel is 2 / size
+    vec2 half_size = s.size / frame.caustic_target_size; // a pixel spans 2 / target size in NDC
     for (int k = 0; k < 4; ++k) {
         vec2 corner = vec2(k & 1, k >> 1) * 2.0 - 1.0;
         gl_Position = s.clip + vec4(corner * half_size * s.clip.w, 0.0, 0.0);
