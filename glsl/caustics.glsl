@@ -6,7 +6,8 @@
 #include "caustic_splat.glsl"
 
 #ifdef PHOTON_DEBUG
-// Per photon, two records: (hit, 1 if it landed else 0), (surface point, flux).
+// Per photon, two records: (hit, 1 if it landed, else −PHOTON_<reason> of photon.glsl), and
+// (surface point, flux: transmitted if it landed, else what it carried towards the water).
 layout(set = 0, binding = BINDING_PHOTON_DEBUG, std430) writeonly buffer PhotonDebug {
     vec4 records[];
 } photon_debug;
@@ -30,7 +31,7 @@ void main() {
             bool landed = cast_photon(uv, photons_per_axis, ph);
 #ifdef PHOTON_DEBUG
             uint index = ((v_cell[0].y * pc.grid + v_cell[0].x) * SUBDIVISION + j) * SUBDIVISION + i;
-            photon_debug.records[2 * index] = vec4(ph.hit, landed ? 1.0 : 0.0);
+            photon_debug.records[2 * index] = vec4(ph.hit, landed ? 1.0 : -float(photon_fate));
             photon_debug.records[2 * index + 1] = vec4(ph.surface, ph.flux);
 #endif
             CausticSplat splat;

@@ -52,36 +52,63 @@ bool converged(vec3 hit, vec3 receiver, vec3 receiver_normal, vec3 light_to_hit,
     return across <= across_allowed && along <= max(3.0 * texel_size / facing, 0.05 * dist);
 }
 
+// Why cast_photon dropped its photon (PHOTON_LANDED when it did not), for the flux budget
+// (`render --flux-budget`, src/flux_budget.rs, whose `DropReason` lists the same codes).
+const int PHOTON_LANDED = 0;
+const int PHOTON_MISSES_WATER = 1;
+const int PHOTON_OUTSIDE_WATER = 2;
+const int PHOTON_BLOCKED_ABOVE = 3;
+const int PHOTON_BACK_OF_WAVE = 4;
+const int PHOTON_TOTAL_REFLECTION = 5;
+const int PHOTON_LEAVES_MAP = 6;
+const int PHOTON_NOT_CONVERGED = 7;
+const int PHOTON_ABOVE_WATER = 8;
+const int PHOTON_NOT_FINITE = 9;
+int photon_fate = PHOTON_LANDED; // set by every cast_photon
+
 // Casts the photon at light-space position uv ∈ [0,1]² of a grid with `photons_per_axis`²
 // photons. Returns false for photons that never enter the water, are blocked before it,
 // leave the light's map, hit nothing, or whose iteration does not converge: those are
 // dropped, never splatted.
 bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
     ph.surface = vec3(0.0); ph.direction = vec3(0.0); ph.hit = vec3(0.0); ph.flux = 0.0; ph.travelled = 0.0;
+    photon_fate = PHOTON_LANDED;
     vec2 ndc = uv * 2.0 - 1.0;
     vec4 a = frame.light_inv_view_proj * vec4(ndc, 0.0, 1.0);
     vec4 b = frame.light_inv_view_proj * vec4(ndc, 1.0, 1.0);
     vec3 o = a.xyz / a.w;
     vec3 d = normalize(b.xyz / b.w - o);
+    // Flux of this photon before the surface (what a dropped photon's record carries): the light's power through its share of the
+    // light frustum. Directional: E⊥ × window area / N². Point: I × the photon's solid angle
+    // (tangent-plane cell area × cos³ of its angle to the light's axis).
+    float n2 = photons_per_axis * photons_per_axis;
+    float flux;
+    if (frame.light_is_point == 0.0) {
+        flux = frame.light_strength * 4.0 * frame.light_half_extent.x * frame.light_half_extent.y / n2;
+    } else {
+        float c = max(dot(d, frame.light_axis), 0.0);
+        flux = frame.light_strength * 4.0 * frame.light_half_extent.x * frame.light_half_extent.y / n2 * c * c * c;
+    }
+    ph.flux = flux;
 
     WaterParams w = frame_water();
     float t = water_intersect(w, noise_tex, o, d, frame_water_phase());
-    if (!(t > 0.0)) return false;
+    if (!(t > 0.0)) { photon_fate = PHOTON_MISSES_WATER; return false; }
     vec3 ps = o + t * d;
-    if (!water_covers(w, ps.xz)) return false;
+    if (!water_covers(w, ps.xz)) { photon_fate = PHOTON_OUTSIDE_WATER; return false; }
     // Blocked before reaching the water (a deck, a wall above it): the light's first
     // receiver along the ray is nearer than the surface. This is the water mask, derived.
     ivec2 texel;
     if (light_texel(ps, texel)) {
         vec4 first = texelFetch(light_position, texel, 0);
-        if (first.w > 0.0 && dot(first.xyz - o, d) < t - 1e-3) return false;
+        if (first.w > 0.0 && dot(first.xyz - o, d) < t - 1e-3) { photon_fate = PHOTON_BLOCKED_ABOVE; return false; }
     }
     vec3 hg = water_height_grad(w, noise_tex, ps.xz, frame_water_phase());
     vec3 n = water_normal_from_grad(hg.yz);
     float cos_i = dot(-d, n);
-    if (cos_i <= 0.0) return false; // the ray meets the back of a steep wave
+    if (cos_i <= 0.0) { photon_fate = PHOTON_BACK_OF_WAVE; return false; } // the back of a steep wave
     vec3 rt = refract(d, n, 1.0 / w.ior);
-    if (dot(rt, rt) == 0.0) return false;
+    if (dot(rt, rt) == 0.0) { photon_fate = PHOTON_TOTAL_REFLECTION; return false; }
     rt = normalize(rt);
 
     // Shah's iteration: guess d, project p_s + d·r_t into the light's map, and take the stored
@@ -116,7 +143,7 @@ bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
         bool inside = light_texel(ps + dist * rt, texel);
         vec4 r = inside ? texelFetch(light_position, texel, 0) : vec4(0.0);
         if (r.w <= 0.0) {
-            if (!have_prev) return false;
+            if (!have_prev) { photon_fate = PHOTON_LEAVES_MAP; return false; }
             dist = prev_dist;
             break;
         }
@@ -129,30 +156,21 @@ bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
         dist = max(next, 1e-3);
     }
     vec3 hit = ps + dist * rt;
-    if (!light_texel(hit, texel)) return false;
+    if (!light_texel(hit, texel)) { photon_fate = PHOTON_LEAVES_MAP; return false; }
     vec4 r = texelFetch(light_position, texel, 0);
-    if (r.w <= 0.0) return false;
+    if (r.w <= 0.0) { photon_fate = PHOTON_LEAVES_MAP; return false; }
     vec3 rn = texelFetch(light_normal, texel, 0).xyz;
     vec3 to_hit = frame.light_is_point > 0.0 ? normalize(hit - frame.light_position) : frame.light_axis;
-    if (!converged(hit, r.xyz, rn, to_hit, dist)) return false;
-    if (hit.y > w.level + abs(w.amplitude) + abs(w.noise_amplitude)) return false;
+    if (!converged(hit, r.xyz, rn, to_hit, dist)) { photon_fate = PHOTON_NOT_CONVERGED; return false; }
+    if (hit.y > w.level + abs(w.amplitude) + abs(w.noise_amplitude)) { photon_fate = PHOTON_ABOVE_WATER; return false; }
 
-    // Flux of this photon before the surface: the light's power through its share of the
-    // light frustum. Directional: E⊥ × window area / N². Point: I × the photon's solid angle
-    // (tangent-plane cell area × cos³ of its angle to the light's axis).
-    float n2 = photons_per_axis * photons_per_axis;
-    float flux;
-    if (frame.light_is_point == 0.0) {
-        flux = frame.light_strength * 4.0 * frame.light_half_extent.x * frame.light_half_extent.y / n2;
-    } else {
-        float c = max(dot(d, frame.light_axis), 0.0);
-        flux = frame.light_strength * 4.0 * frame.light_half_extent.x * frame.light_half_extent.y / n2 * c * c * c;
-    }
     ph.surface = ps;
     ph.direction = rt;
     ph.hit = hit;
     ph.flux = flux * fresnel_transmittance(cos_i, w.ior);
     ph.travelled = dist;
-    return !(any(isnan(hit)) || any(isinf(hit)) || isnan(ph.flux) || isinf(ph.flux));
+    bool finite = !(any(isnan(hit)) || any(isinf(hit)) || isnan(ph.flux) || isinf(ph.flux));
+    photon_fate = finite ? PHOTON_LANDED : PHOTON_NOT_FINITE;
+    return finite;
 }
 #endif

@@ -16,6 +16,7 @@
 pub mod accuracy;
 pub mod bench;
 pub mod error;
+pub mod flux_budget;
 pub mod frame;
 pub mod headless;
 pub mod image_io;

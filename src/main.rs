@@ -182,6 +182,10 @@ struct SceneArgs {
     /// Print which passes the scene needs and why, then render.
     #[arg(long)]
     explain: bool,
+    /// Also render one frame recording every caustic photon (the paper's points, the same
+    /// photons) and print where their flux goes: landed, reflected, dropped by reason.
+    #[arg(long)]
+    flux_budget: bool,
     /// Put the camera here instead of the scene's position, e.g. `0.3,1.5,0.2` (above the
     /// water the surface reflects and refracts).
     #[arg(long, value_name = "X,Y,Z", value_delimiter = ',', allow_hyphen_values = true)]
@@ -539,7 +543,36 @@ fn render_scene(cli: &Cli, args: &SceneArgs) -> Result<i32> {
         }
     }
     println!("\nmedian over {} frames:\n{}", timings.len(), headless::median_timings(&timings));
+    if args.flux_budget {
+        print_flux_budget(&ctx, &scene, extent, args.time)?;
+    }
     Ok(finish(ctx))
+}
+
+/// `render --flux-budget`: one frame through the photon-recording geometry shader (the
+/// paper's points: recording is theirs, and the photons are the same for every estimator).
+fn print_flux_budget(ctx: &Context, scene: &underlight::scene::Scene, extent: vk::Extent2D, time: f32) -> Result<()> {
+    let mut recorded = scene.clone();
+    recorded.effects.caustic_estimator = underlight::scene::CausticEstimator::Paper;
+    if !recorded.effects.caustics || !ctx.device.has_pipeline_stores() {
+        bail!("--flux-budget needs caustics and a device with vertexPipelineStoresAndAtomics");
+    }
+    let options = underlight::frame::FrameOptions { record_photons: true, ..Default::default() };
+    let mut renderer = headless::SceneRenderer::with_options(&ctx.device, &recorded, extent, options)?;
+    let extents = renderer.frame.extents;
+    let (_, images) = renderer.render(1, time, 0.0, true)?;
+    drop(renderer);
+    let Some(records) = images.and_then(|i| i.photon_records) else {
+        bail!("--flux-budget: the caustics pass did not run, so no photon was recorded");
+    };
+    let mut budget = underlight::flux_budget::FluxBudget::from_records(&records);
+    if recorded.light.kind == underlight::scene::LightKind::Directional {
+        let u = underlight::frame::uniforms::FrameUniforms::new(&recorded, recorded.bounds(), &extents, time);
+        budget.light_power =
+            Some(u.light_strength as f64 * 4.0 * u.light_half_extent[0] as f64 * u.light_half_extent[1] as f64);
+    }
+    println!("\nflux budget at t = {time} s:\n{budget}");
+    Ok(())
 }
 
 /// The exposure of the effect buffers' PNGs (`reference`, `render --hdr`): the compose

@@ -46,7 +46,9 @@ pub struct CausticsPass {
     pub estimator: CausticEstimator,
     pub grid: u32,
     pub subdivision: u32,
-    /// With photon recording on: two vec4 per photon, (hit, landed) and (surface, flux).
+    /// With photon recording on: two vec4 per photon, (hit, 1 if landed else −drop reason)
+    /// and (surface, flux: transmitted, or the light's before the water where dropped);
+    /// `flux_budget` reads them.
     pub photon_records: Option<Buffer>,
     /// The photon pipeline: graphics for the rasterised paths and the splat floor's draw,
     /// compute for the compute path.
