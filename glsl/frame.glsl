@@ -65,6 +65,8 @@ layout(set = 0, binding = BINDING_UNIFORMS, std430) readonly buffer FrameUniform
     vec2 camera_water_gradient;    // the surface's gradient at the camera's xz (the CPU twin's, for the pixels' side, underwater.glsl)
     float camera_water_height;     // the surface's height above the level there
     float unused;
+    vec2 photon_window_min;        // the photon grids' part of the light's map window (uv): the water's footprint
+    vec2 photon_window_size;
 } frame;
 
 WaterParams frame_water() {

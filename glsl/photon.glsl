@@ -73,15 +73,19 @@ int photon_fate = PHOTON_LANDED; // set by every cast_photon
 bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
     ph.surface = vec3(0.0); ph.direction = vec3(0.0); ph.hit = vec3(0.0); ph.flux = 0.0; ph.travelled = 0.0;
     photon_fate = PHOTON_LANDED;
+    // The grid covers the water's footprint in the light's window, not the whole window.
+    uv = frame.photon_window_min + uv * frame.photon_window_size;
     vec2 ndc = uv * 2.0 - 1.0;
     vec4 a = frame.light_inv_view_proj * vec4(ndc, 0.0, 1.0);
     vec4 b = frame.light_inv_view_proj * vec4(ndc, 1.0, 1.0);
     vec3 o = a.xyz / a.w;
     vec3 d = normalize(b.xyz / b.w - o);
-    // Flux of this photon before the surface (what a dropped photon's record carries): the light's power through its share of the
-    // light frustum. Directional: E⊥ × window area / N². Point: I × the photon's solid angle
-    // (tangent-plane cell area × cos³ of its angle to the light's axis).
-    float n2 = photons_per_axis * photons_per_axis;
+    // Flux of this photon before the surface (what a dropped photon's record carries): the
+    // light's power through its share of the photon window. Directional: E⊥ × window area
+    // / N². Point: I × the photon's solid angle (tangent-plane cell area × cos³ of its angle
+    // to the light's axis). The window is photon_window_size of the map's, so N² photons
+    // share that fraction of it.
+    float n2 = photons_per_axis * photons_per_axis / (frame.photon_window_size.x * frame.photon_window_size.y);
     float flux;
     if (frame.light_is_point == 0.0) {
         flux = frame.light_strength * 4.0 * frame.light_half_extent.x * frame.light_half_extent.y / n2;

@@ -159,8 +159,7 @@ mod tests {
     fn records_are_counted_by_reason() {
         let photon = |code: f32, flux: f32| [[0.0, 0.0, 0.0, code], [0.0, 0.0, 0.0, flux]];
         let records: Vec<[f32; 4]> =
-            [photon(1.0, 0.5), photon(-7.0, 1.0), photon(-7.0, 1.0), photon(-2.0, 0.25), photon(-12.0, 1.0)]
-                .concat();
+            [photon(1.0, 0.5), photon(-7.0, 1.0), photon(-7.0, 1.0), photon(-2.0, 0.25), photon(-12.0, 1.0)].concat();
         let b = FluxBudget::from_records(&records);
         assert_eq!(b.cast, 5);
         assert_eq!(b.landed, Share { photons: 1, watts: 0.5 });

@@ -568,8 +568,10 @@ fn print_flux_budget(ctx: &Context, scene: &underlight::scene::Scene, extent: vk
     let mut budget = underlight::flux_budget::FluxBudget::from_records(&records);
     if recorded.light.kind == underlight::scene::LightKind::Directional {
         let u = underlight::frame::uniforms::FrameUniforms::new(&recorded, recorded.bounds(), &extents, time);
-        budget.light_power =
-            Some(u.light_strength as f64 * 4.0 * u.light_half_extent[0] as f64 * u.light_half_extent[1] as f64);
+        let window = u.photon_window_size[0] as f64 * u.photon_window_size[1] as f64;
+        budget.light_power = Some(
+            u.light_strength as f64 * 4.0 * u.light_half_extent[0] as f64 * u.light_half_extent[1] as f64 * window,
+        );
     }
     println!("\nflux budget at t = {time} s:\n{budget}");
     Ok(())

@@ -93,8 +93,13 @@ frame_uniforms! {
     camera_water_gradient: [f32; 2],
     camera_water_height: f32,
     unused: f32,
+    /// The part of the light's map window the photon grids cover, in its uv: the water's
+    /// footprint (`frame::uniforms::photon_window`). Photons outside it could only miss the
+    /// water.
+    photon_window_min: [f32; 2],
+    photon_window_size: [f32; 2],
 }
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 4 * 64 + 16 * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 4 * 64 + 16 * 17);
 
 /// Binding numbers of the frame's descriptor set, defined here only: the shader compiler gets
 /// each as the macro `BINDING_<NAME>` (`shaders::compile_all`), which `glsl/` uses.

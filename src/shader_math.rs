@@ -429,6 +429,8 @@ impl PhotonCaster<'_> {
     pub fn cast(&self, uv: Vec2, photons_per_axis: f32) -> Option<Photon> {
         let u = self.uniforms;
         let inv = glam::Mat4::from_cols_array_2d(&u.light_inv_view_proj);
+        let (window_min, window_size) = (Vec2::from(u.photon_window_min), Vec2::from(u.photon_window_size));
+        let uv = window_min + uv * window_size;
         let ndc = uv * 2.0 - 1.0;
         let a = inv * glam::Vec4::new(ndc.x, ndc.y, 0.0, 1.0);
         let b = inv * glam::Vec4::new(ndc.x, ndc.y, 1.0, 1.0);
@@ -512,7 +514,7 @@ impl PhotonCaster<'_> {
         if hit.y > w.level + w.amplitude.abs() + w.noise_amplitude.abs() {
             return None;
         }
-        let n2 = photons_per_axis * photons_per_axis;
+        let n2 = photons_per_axis * photons_per_axis / (window_size.x * window_size.y);
         let mut flux = u.light_strength * 4.0 * u.light_half_extent[0] * u.light_half_extent[1] / n2;
         if point {
             let c = d.dot(Vec3::from_array(u.light_axis)).max(0.0);

@@ -59,6 +59,36 @@ pub struct LightFrame {
     pub half_extent: [f32; 2],
 }
 
+/// The photon grids' window inside the light's map window, as (min, size) in the map's uv:
+/// the bounding rectangle of the water slab (its extent, between the lowest trough and the
+/// highest crest) seen from the light. The maps must cover every receiver a refracted photon
+/// can reach, but a photon outside the water's footprint can only miss the water: on the
+/// built-in scenes half the grid did (`render --flux-budget`). The whole window where the
+/// footprint is not in front of a point light.
+pub fn photon_window(scene: &Scene, light: &LightFrame) -> (glam::Vec2, glam::Vec2) {
+    let w = &scene.water;
+    let bound = w.amplitude.abs() + w.noise_amplitude.abs();
+    let full = (glam::Vec2::ZERO, glam::Vec2::ONE);
+    let (mut lo, mut hi) = (glam::Vec2::splat(f32::INFINITY), glam::Vec2::splat(f32::NEG_INFINITY));
+    for corner in 0..8 {
+        let x = if corner & 1 == 0 { w.extent_min.x } else { w.extent_max.x };
+        let z = if corner & 2 == 0 { w.extent_min.y } else { w.extent_max.y };
+        let y = if corner & 4 == 0 { w.level - bound } else { w.level + bound };
+        let clip = light.view_proj * glam::Vec4::new(x, y, z, 1.0);
+        if !(clip.w > 1e-6) {
+            return full;
+        }
+        let uv = glam::Vec2::new(clip.x, clip.y) / clip.w * 0.5 + 0.5;
+        lo = lo.min(uv);
+        hi = hi.max(uv);
+    }
+    let (lo, hi) = (lo.clamp(glam::Vec2::ZERO, glam::Vec2::ONE), hi.clamp(glam::Vec2::ZERO, glam::Vec2::ONE));
+    if !(hi.x > lo.x && hi.y > lo.y) || !lo.is_finite() || !hi.is_finite() {
+        return full;
+    }
+    (lo, hi - lo)
+}
+
 /// `bounds`: the scene's bounds (`Scene::bounds`), computed once per scene, not per frame.
 pub fn light_frame(scene: &Scene, bounds: (Vec3, Vec3), aspect: f32) -> LightFrame {
     let c = &scene.camera;
@@ -239,6 +269,7 @@ impl FrameUniforms {
         let exposure = 2.0 * std::f32::consts::PI / surface_irradiance.max(1e-12);
         let model = w.model.glsl_id() as f32;
         let m = &scene.medium;
+        let photon_window = photon_window(scene, &light);
         Self {
             camera_view_proj: (proj * view).to_cols_array_2d(),
             light_view_proj: light.view_proj.to_cols_array_2d(),
@@ -291,6 +322,8 @@ impl FrameUniforms {
             camera_water_gradient: [0.0; 2],
             camera_water_height: 0.0,
             unused: 0.0,
+            photon_window_min: photon_window.0.to_array(),
+            photon_window_size: photon_window.1.to_array(),
         }
     }
 }
