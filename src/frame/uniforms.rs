@@ -83,7 +83,7 @@ pub fn photon_window(scene: &Scene, light: &LightFrame) -> (glam::Vec2, glam::Ve
         hi = hi.max(uv);
     }
     let (lo, hi) = (lo.clamp(glam::Vec2::ZERO, glam::Vec2::ONE), hi.clamp(glam::Vec2::ZERO, glam::Vec2::ONE));
-    if !(hi.x > lo.x && hi.y > lo.y) || !lo.is_finite() || !hi.is_finite() {
+    if !(hi.x > lo.x && hi.y > lo.y && lo.is_finite() && hi.is_finite()) {
         return full;
     }
     (lo, hi - lo)
