@@ -67,6 +67,19 @@ impl Share {
     }
 }
 
+/// A directional light's power through the photon grid, W: E⊥ × the map window's area ×
+/// the share of it the grid covers (`photon_window_size`). None for a point light, whose
+/// power through the grid depends on each photon's angle.
+pub fn grid_power(u: &crate::frame::uniforms::FrameUniforms) -> Option<f64> {
+    (u.light_is_point == 0.0).then(|| {
+        u.light_strength as f64
+            * 4.0
+            * u.light_half_extent[0] as f64
+            * u.light_half_extent[1] as f64
+            * (u.photon_window_size[0] as f64 * u.photon_window_size[1] as f64)
+    })
+}
+
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FluxBudget {
     pub cast: u64,

@@ -566,13 +566,8 @@ fn print_flux_budget(ctx: &Context, scene: &underlight::scene::Scene, extent: vk
         bail!("--flux-budget: the caustics pass did not run, so no photon was recorded");
     };
     let mut budget = underlight::flux_budget::FluxBudget::from_records(&records);
-    if recorded.light.kind == underlight::scene::LightKind::Directional {
-        let u = underlight::frame::uniforms::FrameUniforms::new(&recorded, recorded.bounds(), &extents, time);
-        let window = u.photon_window_size[0] as f64 * u.photon_window_size[1] as f64;
-        budget.light_power = Some(
-            u.light_strength as f64 * 4.0 * u.light_half_extent[0] as f64 * u.light_half_extent[1] as f64 * window,
-        );
-    }
+    let u = underlight::frame::uniforms::FrameUniforms::new(&recorded, recorded.bounds(), &extents, time);
+    budget.light_power = underlight::flux_budget::grid_power(&u);
     println!("\nflux budget at t = {time} s:\n{budget}");
     Ok(())
 }

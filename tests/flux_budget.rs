@@ -33,11 +33,7 @@ fn every_photon_and_watt_is_accounted_for() {
         let records = images.unwrap().photon_records.expect("photon records");
         let budget = FluxBudget::from_records(&records);
         let u = FrameUniforms::new(&scene, scene.bounds(), &extents, 1.0);
-        let power = u.light_strength as f64
-            * 4.0
-            * u.light_half_extent[0] as f64
-            * u.light_half_extent[1] as f64
-            * (u.photon_window_size[0] * u.photon_window_size[1]) as f64;
+        let power = underlight::flux_budget::grid_power(&u).expect("the built-in scenes' light is directional");
         eprintln!("{name}:\n{budget}");
         assert_eq!(budget.cast, 96 * 96, "{name}: photons recorded");
         assert_eq!(budget.unknown, 0, "{name}: records with a code the budget does not know");
