@@ -1,12 +1,12 @@
 //! Where the caustic photons' flux goes (`underlight render --flux-budget`): of the light's
 //! power through the photon grid, how much lands on a receiver and how much each reason for
 //! dropping a photon costs. Read from the photon records of the geometry shader's recording
-//! pass (`FrameOptions::record_photons`, `glsl/caustics.glsl`), so it is the GPU's own
+//! pass (`FrameOptions::record_photons`, `glsl/caustics/caustics.geom`), so it is the GPU's own
 //! account, not a model of it.
 
 use std::fmt;
 
-/// Why `cast_photon` (glsl/photon.glsl) dropped a photon: the `PHOTON_*` codes, in order.
+/// Why `cast_photon` (glsl/photons/photon_cast.glsl) dropped a photon: the `PHOTON_*` codes, in order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DropReason {
     MissesWater = 1,

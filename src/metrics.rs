@@ -129,7 +129,7 @@ pub fn sample_bilinear(image: &HdrImage, u: f32, v: f32) -> [f32; 4] {
     std::array::from_fn(|i| (a[i] * (1.0 - fx) + b[i] * fx) * (1.0 - fy) + (c[i] * (1.0 - fx) + d[i] * fx) * fy)
 }
 
-/// The final image, 8-bit sRGB RGB, as compose.glsl makes it: scene colour + caustic
+/// The final image, 8-bit sRGB RGB, as compose.frag makes it: scene colour + caustic
 /// irradiance × albedo/π × transmittance + godray radiance (both upsampled bilinearly), then
 /// `1 − e^(−exposure·L)`. FLIP compares two images composed here, one with the GPU's photon
 /// buffers and one with the reference's, so it measures the photon buffers' error and not

@@ -1,17 +1,17 @@
 //! The shader ABI: what the Rust side and `glsl/` agree on, in one leaf module that imports
 //! nothing of the method's.
 //!
-//! - `FrameUniforms`: the frame's parameter block, field for field with `glsl/frame.glsl`
+//! - `FrameUniforms`: the frame's parameter block, field for field with `glsl/shared/frame.glsl`
 //!   (std430; a test below fails on any difference in a name or an offset). How each field
 //!   is computed for a frame is `frame::uniforms`.
 //! - `bindings`: the descriptor binding numbers, defined only here; the shader compiler passes
 //!   each to `glsl/` as a `BINDING_<NAME>` macro (`shaders::compile_all`).
 
 /// Defines `FrameUniforms` and `FRAME_UNIFORM_FIELDS` (each field's name and byte offset)
-/// from one list, so the test against `glsl/frame.glsl` sees every field the struct has.
+/// from one list, so the test against `glsl/shared/frame.glsl` sees every field the struct has.
 macro_rules! frame_uniforms {
     ($($(#[doc = $doc:literal])* $name:ident: $ty:ty,)*) => {
-        /// The image of `glsl/frame.glsl`'s `FrameUniforms` block (std430), field for field.
+        /// The image of `glsl/shared/frame.glsl`'s `FrameUniforms` block (std430), field for field.
         #[repr(C)]
         #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
         pub struct FrameUniforms {
@@ -160,7 +160,7 @@ mod abi_tests {
             "vec3" => (12, 16),
             "vec4" => (16, 16),
             "mat4" => (64, 16),
-            other => panic!("glsl/frame.glsl: the block holds a {other}; teach this test its std430 layout"),
+            other => panic!("glsl/shared/frame.glsl: the block holds a {other}; teach this test its std430 layout"),
         }
     }
 
@@ -186,9 +186,9 @@ mod abi_tests {
 
     #[test]
     fn glsl_block_matches_the_rust_struct() {
-        let (members, size) = glsl_members(include_str!("../glsl/frame.glsl"));
+        let (members, size) = glsl_members(include_str!("../glsl/shared/frame.glsl"));
         let rust: Vec<(String, usize)> = FRAME_UNIFORM_FIELDS.iter().map(|(n, o)| (n.to_string(), *o)).collect();
-        assert_eq!(members, rust, "glsl/frame.glsl's FrameUniforms and shader_abi::FrameUniforms differ");
+        assert_eq!(members, rust, "glsl/shared/frame.glsl's FrameUniforms and shader_abi::FrameUniforms differ");
         assert_eq!(size, std::mem::size_of::<FrameUniforms>());
     }
 

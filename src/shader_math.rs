@@ -1,4 +1,4 @@
-//! Rust twin of `glsl/common.glsl`: the same formulas, for CPU tests and (later) the
+//! Rust twin of `glsl/shared/shader_math.glsl`: the same formulas, for CPU tests and (later) the
 //! reference renderer. Change both together.
 
 use glam::{UVec2, Vec2, Vec3, Vec3Swizzles};
@@ -18,12 +18,12 @@ pub const TRIANGLE_MAX_SUBDIVISION: u32 = 3;
 /// offers (`max_vertices = 72` in godrays.geom).
 pub const GODRAY_MAX_SUBDIVISION: u32 = 6;
 
-/// See `photon_grid_uv` in common.glsl.
+/// See `photon_grid_uv` in shader_math.glsl.
 pub fn photon_grid_uv(cell: UVec2, sub: UVec2, subdiv: u32, grid: UVec2) -> Vec2 {
     (cell.as_vec2() + (sub.as_vec2() + 0.5) / subdiv as f32) / grid.as_vec2()
 }
 
-/// See `demo_wave_gradient` in common.glsl.
+/// See `demo_wave_gradient` in shader_math.glsl.
 pub fn demo_wave_gradient(uv: Vec2, t: f32) -> Vec2 {
     let k1 = Vec2::new(7.0, 3.0) * 2.0 * PI;
     let k2 = Vec2::new(-4.0, 9.0) * 2.0 * PI;
@@ -31,7 +31,7 @@ pub fn demo_wave_gradient(uv: Vec2, t: f32) -> Vec2 {
 }
 
 // ---------------------------------------------------------------------------------------
-// Water surface (GLSL: common.glsl, "Water surface").
+// Water surface (GLSL: shader_math.glsl, "Water surface").
 
 /// GLSL `WATER_CIRCULAR_COSINE` / `WATER_AXIS_COSINE_NOISE`.
 pub const WATER_CIRCULAR_COSINE: i32 = 0;
@@ -308,7 +308,7 @@ pub fn refract(i: Vec3, n: Vec3, eta: f32) -> Vec3 {
     }
 }
 
-/// GLSL `water_fog_radiance` (underwater.glsl): the radiance the water sends towards the
+/// GLSL `water_fog_radiance` (underwater_shading.glsl): the radiance the water sends towards the
 /// viewer from in-scattered ambient light, per channel: E_ambient · σs / γ / 4π (γ ≥ 1e-3).
 pub fn water_fog_radiance(ambient_irradiance: f32, gamma: Vec3, scattering: f32) -> Vec3 {
     ambient_irradiance * scattering / gamma.max(Vec3::splat(1e-3)) / (4.0 * std::f32::consts::PI)
@@ -341,7 +341,7 @@ pub fn regulated_point_size(d_view: f32, z_near: f32, z_far: f32, s_min: f32, s_
 }
 
 // ---------------------------------------------------------------------------------------
-// Photon casting (GLSL: photon.glsl, `cast_photon`).
+// Photon casting (GLSL: photon_cast.glsl, `cast_photon`).
 
 /// A photon that reached a receiver (GLSL `Photon`).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -2,6 +2,13 @@
 //! `spirv/`, which is committed and embedded in the binary at build time, so running
 //! underlight needs no shader compiler. A test recompiles everything and fails when the
 //! committed SPIR-V is stale.
+//!
+//! `glsl/` has a folder per pass (`shadow/`, `scene/`, `surface/`, `photons/`, `caustics/`,
+//! `godrays/`, `filter/`, `compose/`, and `grid_splat/` for the demo) and `shared/` for what
+//! every pass includes: the frame's parameters and bindings (`frame.glsl`,
+//! `frame_textures.glsl`) and the shader math whose Rust twin is `shader_math.rs`
+//! (`shader_math.glsl`). Every `.vert`/`.geom`/`.frag`/`.comp` is a program named by its file
+//! name; [`VARIANTS`] adds the programs that are another's source with defines.
 
 use anyhow::{bail, Context as _, Result};
 use std::path::{Path, PathBuf};
@@ -37,54 +44,162 @@ pub fn source_dirs() -> (PathBuf, PathBuf) {
 }
 
 pub struct CompiledShader {
-    /// Source file name, e.g. `grid_splat.geom`; the SPIR-V file is `<name>.spv`.
+    /// Program name, e.g. `grid_splat.geom`; the SPIR-V file is `<name>.spv`.
     pub name: String,
     pub spirv: Vec<u8>,
 }
 
-/// Stage sources (not includes) in `glsl_dir`, sorted.
+/// A program compiled from another program's source with preprocessor defines, in place of a
+/// stub file per variant. Its SPIR-V is `spirv/<name>.spv` like any other program's.
+pub struct Variant {
+    /// Program name; the stage is its extension, which is the source's.
+    pub name: &'static str,
+    /// Source under `glsl/`.
+    pub source: &'static str,
+    pub defines: &'static [&'static str],
+}
+
+/// Every variant program. The passes pick among them by name (`passes::compose`,
+/// `passes::scene`, `passes::caustics`).
+pub const VARIANTS: &[Variant] = &[
+    // Every photon's cast recorded for the tests (glsl/caustics/caustics.geom).
+    Variant { name: "caustics_debug.geom", source: "caustics/caustics.geom", defines: &["PHOTON_DEBUG"] },
+    // The reflection pass writes colour only (glsl/scene/scene.frag).
+    Variant { name: "reflection.frag", source: "scene/scene.frag", defines: &["COLOR_ONLY"] },
+    // Compose binds only the effects a scene has (glsl/compose/compose.frag).
+    Variant { name: "compose_caustics.frag", source: "compose/compose.frag", defines: &["HAS_CAUSTICS"] },
+    Variant { name: "compose_godrays.frag", source: "compose/compose.frag", defines: &["HAS_GODRAYS"] },
+    Variant {
+        name: "compose_caustics_godrays.frag",
+        source: "compose/compose.frag",
+        defines: &["HAS_CAUSTICS", "HAS_GODRAYS"],
+    },
+    // The surface seen from above (with the refraction and reflection passes), with the
+    // effects the scene has (glsl/surface/water.frag).
+    Variant { name: "water_above.frag", source: "surface/water.frag", defines: &["THROUGH_SURFACE"] },
+    Variant {
+        name: "water_above_caustics.frag",
+        source: "surface/water.frag",
+        defines: &["THROUGH_SURFACE", "HAS_CAUSTICS"],
+    },
+    Variant {
+        name: "water_above_godrays.frag",
+        source: "surface/water.frag",
+        defines: &["THROUGH_SURFACE", "HAS_GODRAYS"],
+    },
+    Variant {
+        name: "water_above_caustics_godrays.frag",
+        source: "surface/water.frag",
+        defines: &["THROUGH_SURFACE", "HAS_CAUSTICS", "HAS_GODRAYS"],
+    },
+];
+
+/// The folder of includes every shader may name without a path (`glsl/shared/`); any other
+/// include is relative to the including file.
+const SHARED_INCLUDES: &str = "shared";
+
+fn stage_kind(path: &Path) -> Option<shaderc::ShaderKind> {
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    STAGES.iter().find(|(e, _)| *e == ext).map(|(_, kind)| *kind)
+}
+
+/// Stage sources (not includes) anywhere under `glsl_dir`, as paths relative to it, sorted.
+/// A program is named by its file name, so two stages with one name are an error.
 pub fn stage_sources(glsl_dir: &Path) -> Result<Vec<(PathBuf, shaderc::ShaderKind)>> {
     let mut out = Vec::new();
-    for entry in std::fs::read_dir(glsl_dir).with_context(|| format!("reading {}", glsl_dir.display()))? {
-        let path = entry?.path();
-        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-        if let Some((_, kind)) = STAGES.iter().find(|(e, _)| *e == ext) {
-            out.push((path, *kind));
+    let mut folders = vec![PathBuf::new()];
+    while let Some(folder) = folders.pop() {
+        let dir = glsl_dir.join(&folder);
+        for entry in std::fs::read_dir(&dir).with_context(|| format!("reading {}", dir.display()))? {
+            let entry = entry?;
+            let relative = folder.join(entry.file_name());
+            if entry.file_type()?.is_dir() {
+                folders.push(relative);
+            } else if let Some(kind) = stage_kind(&relative) {
+                out.push((relative, kind));
+            }
         }
     }
     out.sort_by(|a, b| a.0.cmp(&b.0));
+    let mut names = std::collections::HashSet::new();
+    for (path, _) in &out {
+        if !names.insert(path.file_name()) {
+            bail!("two shader stages under {} are named {:?}", glsl_dir.display(), path.file_name().unwrap());
+        }
+    }
     Ok(out)
 }
 
-/// Compiles every stage in `glsl_dir`. `#include "x.glsl"` resolves inside `glsl_dir`.
-pub fn compile_all(glsl_dir: &Path) -> Result<Vec<CompiledShader>> {
-    let compiler = shaderc::Compiler::new().context("creating the shaderc compiler")?;
+/// `a/b/../c` → `a/c`, without touching the file system (include names stay relative).
+fn normalize(path: &Path) -> PathBuf {
+    let mut out = PathBuf::new();
+    for part in path.components() {
+        match part {
+            std::path::Component::ParentDir => {
+                out.pop();
+            }
+            std::path::Component::CurDir => {}
+            other => out.push(other),
+        }
+    }
+    out
+}
+
+/// Compile options with the frame's binding macros, the include rule and `defines`.
+fn compile_options<'a>(glsl_dir: &Path, defines: &[&str]) -> Result<shaderc::CompileOptions<'a>> {
     let mut options = shaderc::CompileOptions::new().context("creating shaderc options")?;
     options.set_target_env(shaderc::TargetEnv::Vulkan, shaderc::EnvVersion::Vulkan1_2 as u32);
     options.set_source_language(shaderc::SourceLanguage::GLSL);
     options.set_optimization_level(shaderc::OptimizationLevel::Performance);
     options.set_warnings_as_errors();
     // The frame's binding numbers come from their one definition, shader_abi::bindings, as
-    // BINDING_<NAME> macros (glsl/frame_textures.glsl).
+    // BINDING_<NAME> macros (glsl/shared/frame_textures.glsl).
     for (name, number) in crate::shader_abi::bindings::ALL {
         options.add_macro_definition(&format!("BINDING_{name}"), Some(&number.to_string()));
     }
-    let include_dir = glsl_dir.to_path_buf();
+    for define in defines {
+        options.add_macro_definition(define, None);
+    }
+    let root = glsl_dir.to_path_buf();
     options.set_include_callback(move |requested, _kind, requester, _depth| {
-        let path = include_dir.join(requested);
-        std::fs::read_to_string(&path)
-            .map(|content| shaderc::ResolvedInclude { resolved_name: requested.to_string(), content })
-            .map_err(|e| format!("{requester}: cannot include {}: {e}", path.display()))
+        // Names are relative to glsl/ (the requester's is what this callback resolved it to).
+        let beside = normalize(&Path::new(requester).parent().unwrap_or(Path::new("")).join(requested));
+        let shared = Path::new(SHARED_INCLUDES).join(requested);
+        let resolved = [beside, shared].into_iter().find(|p| root.join(p).is_file()).ok_or_else(|| {
+            format!("{requester}: cannot include {requested:?}: not beside it, nor in glsl/{SHARED_INCLUDES}/")
+        })?;
+        std::fs::read_to_string(root.join(&resolved))
+            .map(|content| shaderc::ResolvedInclude { resolved_name: resolved.to_string_lossy().into_owned(), content })
+            .map_err(|e| format!("{requester}: cannot include {}: {e}", resolved.display()))
     });
+    Ok(options)
+}
+
+/// Compiles every stage under `glsl_dir` and every [`VARIANTS`] entry.
+pub fn compile_all(glsl_dir: &Path) -> Result<Vec<CompiledShader>> {
+    let compiler = shaderc::Compiler::new().context("creating the shaderc compiler")?;
+    let stages = stage_sources(glsl_dir)?;
+    let mut programs: Vec<(String, PathBuf, shaderc::ShaderKind, &[&str])> = stages
+        .iter()
+        .map(|(path, kind)| (path.file_name().unwrap().to_string_lossy().into_owned(), path.clone(), *kind, &[][..]))
+        .collect();
+    for variant in VARIANTS {
+        // A scratch glsl/ (tests) may lack a variant's source: the variant is then not built.
+        if let Some((path, kind)) = stages.iter().find(|(p, _)| p == Path::new(variant.source)) {
+            programs.push((variant.name.to_string(), path.clone(), *kind, variant.defines));
+        }
+    }
     let mut out = Vec::new();
-    for (path, kind) in stage_sources(glsl_dir)? {
-        let name = path.file_name().unwrap().to_string_lossy().into_owned();
-        let source = std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
+    for (name, path, kind, defines) in programs {
+        let options = compile_options(glsl_dir, defines)?;
+        let file = glsl_dir.join(&path);
+        let source = std::fs::read_to_string(&file).with_context(|| format!("reading {}", file.display()))?;
         let artifact = compiler
-            .compile_into_spirv(&source, kind, &name, "main", Some(&options))
-            .map_err(|e| anyhow::anyhow!("compiling {}:\n{e}", path.display()))?;
+            .compile_into_spirv(&source, kind, &path.to_string_lossy(), "main", Some(&options))
+            .map_err(|e| anyhow::anyhow!("compiling {name} from {}:\n{e}", file.display()))?;
         out.push(CompiledShader { name, spirv: artifact.as_binary_u8().to_vec() });
     }
+    out.sort_by(|a, b| a.name.cmp(&b.name));
     Ok(out)
 }
 

@@ -176,7 +176,7 @@ fn water_from_flat_to_violent_and_late() {
     assert_clean_shutdown(ctx);
 }
 
-/// The triangle estimator (glsl/caustics_triangles.geom) through the same extremes as the
+/// The triangle estimator (glsl/caustics/caustics_triangles.geom) through the same extremes as the
 /// paper's points: grazing and straight-down sun, violent and centimetre waves, the
 /// smallest grid and its largest subdivision. Each frame is finite and clean, puts no more
 /// light on the floor than enters the water, and on flat water puts as much there as the

@@ -473,7 +473,7 @@ fn triangle_estimator_lights_flat_water_exactly_and_without_gaps() {
     // the floor, each carrying its flux over its area, so every pixel holds the analytic
     // irradiance, with no splat footprint to leave a bias or a block pattern.
     // At 320×320 the floor's triangles are about 1 px² (at the pool's 96×96 they are a
-    // fifth of that and draw as single pixels: glsl/caustics_triangles.geom).
+    // fifth of that and draw as single pixels: glsl/caustics/caustics_triangles.geom).
     let scene = pool_with(0.0, CausticEstimator::Triangles, 320);
     let (images, _) = render(&scene);
     let caustics = images.caustics.as_ref().unwrap();

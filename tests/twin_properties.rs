@@ -1,5 +1,5 @@
 //! Property tests of the CPU twin of the shader math (`src/shader_math.rs`, the twin of
-//! `glsl/common.glsl` and `glsl/photon.glsl`; tests/method.rs checks the GPU agrees with it)
+//! `glsl/shared/shader_math.glsl` and `glsl/photons/photon_cast.glsl`; tests/method.rs checks the GPU agrees with it)
 //! over wide parameter ranges, including the extremes users reach: grazing and straight-down
 //! sun, flat to violent water, late times, g at ±0.99, tiny and huge view distances.
 //! Each property is one a broken formula fails: a NaN, a direction that is not unit, a
@@ -188,7 +188,7 @@ proptest! {
         let caster = PhotonCaster { uniforms: &u, noise: &noise, light_map: &map, light_normals: &normals };
         let per_axis = 24.0f32;
         // The shader's convergence test: the hit lies within 3 texels or 5 % of the distance
-        // travelled of the plane of the receiver at its texel (photon.glsl).
+        // travelled of the plane of the receiver at its texel (photon_cast.glsl).
         let texel = 2.0 * u.light_half_extent[0].max(u.light_half_extent[1]) / map_size as f32;
         // The most one photon can carry: E⊥ through its share of the light's window.
         let share = u.light_strength * 4.0 * u.light_half_extent[0] * u.light_half_extent[1] / (per_axis * per_axis);

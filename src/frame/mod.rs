@@ -382,7 +382,7 @@ impl Frame {
                 device,
                 &format!("frame {i} uniforms"),
                 std::mem::size_of::<FrameUniforms>() as u64,
-                // Read as a read-only storage buffer, not a uniform buffer: glsl/frame.glsl.
+                // Read as a read-only storage buffer, not a uniform buffer: glsl/shared/frame.glsl.
                 vk::BufferUsageFlags::STORAGE_BUFFER,
                 MemoryLocation::CpuToGpu,
             )?);

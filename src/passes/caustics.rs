@@ -2,7 +2,7 @@
 //! refracted at the water and intersected with the scene in image space; the photons that
 //! land become irradiance in an RGBA32F target a fraction of the output's size (units:
 //! docs/units.md), by one of two estimators (`CausticEstimator`): the paper's
-//! distance-sized points, or warped-cell triangles (glsl/caustics_triangles.geom).
+//! distance-sized points, or warped-cell triangles (glsl/caustics/caustics_triangles.geom).
 
 use crate::error::{Error, Result};
 use crate::passes::photon_accumulation::{dispatch_per_photon, require_float_atomics, AtomicAccumulation};
@@ -30,7 +30,7 @@ pub const BINDINGS: &[(u32, Binding)] = &[
 ];
 
 /// Bytes of one recorded splat of the raw splat floor: clip position, irradiance, and
-/// (point size, view depth) padded to a vec4 (`SplatRecord` in glsl/caustics_record.comp).
+/// (point size, view depth) padded to a vec4 (`SplatRecord` in glsl/caustics/caustics_record.comp).
 const SPLAT_RECORD_BYTES: u64 = 48;
 
 /// The raw splat floor's extra state: the recorded splats and the compute cast that records

@@ -79,7 +79,7 @@ impl GridSplatSettings {
     }
 }
 
-/// Push constants; layout matches `glsl/grid_splat_params.glsl`.
+/// Push constants; layout matches `glsl/grid_splat/grid_splat_params.glsl`.
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct GridSplatPush {

@@ -17,7 +17,7 @@ pub struct MeshVertex {
     pub albedo: [f32; 3],
 }
 
-/// Vertex attributes of `MeshVertex` for `glsl/mesh.vert`: (location, format, offset).
+/// Vertex attributes of `MeshVertex` for `glsl/scene/mesh.vert`: (location, format, offset).
 pub const MESH_ATTRIBUTES: [(u32, vk::Format, u32); 3] = [
     (0, vk::Format::R32G32B32_SFLOAT, 0),
     (1, vk::Format::R32G32B32_SFLOAT, 12),

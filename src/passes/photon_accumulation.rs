@@ -18,7 +18,7 @@ use std::sync::Arc;
 pub const PHOTONS_PER_GROUP: u64 = 64;
 
 /// Dispatches one invocation per photon. Counts beyond the device's group-count limit are
-/// laid out in rows (`photon_invocation_index` in glsl/photon_accumulation.glsl).
+/// laid out in rows (`photon_invocation_index` in glsl/photons/photon_accumulation.glsl).
 pub fn dispatch_per_photon(device: &Device, cmd: vk::CommandBuffer, photons: u64) {
     let groups = photons.div_ceil(PHOTONS_PER_GROUP).max(1);
     let max_x = device.limits().max_compute_work_group_count[0] as u64;

@@ -2,7 +2,7 @@
 //! camera, cut above the highest crest by a clip plane (Mihálik's thesis, ch. 7). It keeps
 //! the radiance leaving each receiver, its albedo/π and its depth. The caustics and godrays
 //! passes splat into this view (they test against its depth), and the water surface reads
-//! all of them where its refracted ray meets this depth (`glsl/water.glsl`), then applies the
+//! all of them where its refracted ray meets this depth (`glsl/surface/water.frag`), then applies the
 //! water along that ray. Recorded only in frames where the camera can see the surface from
 //! above.
 

@@ -3,7 +3,7 @@
 //! are multiplied by in compose (albedo/π × transmittance), and depth, which caustics and
 //! godrays are tested against when the camera is under the water. Drawn in order: the
 //! background (sky or the water's glow, per pixel), the meshes, and the water surface as a
-//! displaced grid, shaded from whichever side each pixel sees it (`glsl/water.glsl`).
+//! displaced grid, shaded from whichever side each pixel sees it (`glsl/surface/water.frag`).
 
 use crate::error::Result;
 use crate::passes::mesh::{GpuMeshes, MeshVertex, MESH_ATTRIBUTES};
@@ -24,7 +24,7 @@ pub const WATER_GRID_CELLS: u32 = 128;
 /// passes'): radiance in W/(m²·sr), well beyond 8 bits' range.
 pub const COLOR_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 
-/// Which view a mesh draw renders (`glsl/view.glsl`, specialization constant 0).
+/// Which view a mesh draw renders (`glsl/shared/view.glsl`, specialization constant 0).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum View {
     Camera = 0,

@@ -2,7 +2,7 @@
 //! texel, the world position of the nearest receiver (Shah's position texture, for the
 //! image-space intersection) and its normal (for the iteration's convergence test and the
 //! caustic splat's footprint). The water
-//! mask the paper makes optional is derived from the position map instead (see photon.glsl).
+//! mask the paper makes optional is derived from the position map instead (see photon_cast.glsl).
 
 use crate::error::Result;
 use crate::passes::mesh::{GpuMeshes, MESH_ATTRIBUTES};
@@ -16,7 +16,7 @@ use crate::vk::render_pass::{Attachment, Load, RenderPass};
 use ash::vk;
 use std::sync::Arc;
 
-/// What the shadow pass's shaders read (glsl/frame_textures.glsl numbering).
+/// What the shadow pass's shaders read (glsl/shared/frame_textures.glsl numbering).
 pub const BINDINGS: &[(u32, Binding)] = &[(b::UNIFORMS, Binding::Storage)];
 
 pub struct ShadowPass {

@@ -12,7 +12,7 @@ use std::sync::Arc;
 pub enum Binding {
     /// A sampled image with its sampler.
     Texture,
-    /// A storage buffer. The frame's parameter block is one too, read-only (glsl/frame.glsl
+    /// A storage buffer. The frame's parameter block is one too, read-only (glsl/shared/frame.glsl
     /// says why it is not a uniform buffer).
     Storage,
 }
@@ -43,7 +43,7 @@ pub struct DescriptorSets {
 impl DescriptorSets {
     /// One set layout with exactly `bindings` (binding number, kind), visible to every
     /// graphics stage and to compute, and `count` sets of it. Binding numbers may be sparse: passes share
-    /// one numbering (glsl/frame_textures.glsl) but each declares only what it reads.
+    /// one numbering (glsl/shared/frame_textures.glsl) but each declares only what it reads.
     pub fn new(device: &Arc<Device>, name: &str, bindings: &[(u32, Binding)], count: u32) -> Result<Self> {
         let layout_bindings: Vec<vk::DescriptorSetLayoutBinding> = bindings
             .iter()

@@ -1,3 +1,0 @@
-#version 450
-// The caustics geometry shader; see caustics.glsl.
-#include "caustics.glsl"

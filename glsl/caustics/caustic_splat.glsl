@@ -1,0 +1,55 @@
+// A caustic photon's splat (method step 5), shared by the geometry-shader photon path
+// (caustics.geom) and the vertex-only one (caustics_vertex.vert), so both draw the same points.
+#ifndef UNDERLIGHT_CAUSTIC_SPLAT_GLSL
+#define UNDERLIGHT_CAUSTIC_SPLAT_GLSL
+#include "../photons/photon_cast.glsl"
+
+struct CausticSplat {
+    vec4 clip;        // camera clip position of the hit
+    float size;       // point size, whole pixels
+    vec4 irradiance;  // rgb: irradiance / E_surface per covered pixel; a = 1 per photon
+};
+
+// A square splat of `size` whole pixels centred on receiver point `hit`, spreading the
+// transmitted flux `flux` (W per channel, attenuation applied) over the receiver area its
+// pixels cover; false when it cannot touch the target. Shared by the paper's points and by
+// the triangle estimator's fallbacks (caustics_triangles.geom).
+bool caustic_square(vec3 hit, vec3 flux, float size, out CausticSplat s) {
+    s.clip = frame.camera_view_proj * vec4(hit, 1.0);
+    s.size = size;
+    s.irradiance = vec4(0.0);
+    if (s.clip.w <= frame.z_near) return false; // behind or at the camera
+    // Cull splats that cannot touch the target: the view volume widened by the point's
+    // radius. (Clipping a point outside the viewport is not enough: some rasterisers clamp
+    // far-off points to the border instead of discarding them.)
+    vec2 reach = s.clip.w * (1.0 + size / frame.caustic_target_size);
+    if (any(greaterThan(abs(s.clip.xy), reach)) || s.clip.z < 0.0 || s.clip.z > s.clip.w) return false;
+    vec3 to_hit = hit - frame.camera_position;
+    float d_view = length(to_hit);
+    ivec2 texel;
+    vec3 n = vec3(0.0, 1.0, 0.0);
+    if (light_texel(hit, texel)) n = normalize(texelFetch(light_normal, texel, 0).xyz + 1e-6);
+    float cos_view = abs(dot(n, to_hit / d_view));
+    float cos_axis = s.clip.w / d_view;
+    // The splat spreads the photon's flux over size² pixels, each covering pixel_world_area
+    // of the receiver: the density estimate of irradiance.
+    float area = size * size * pixel_world_area(d_view, cos_view, cos_axis, frame.caustic_target_size.y);
+    // Stored relative to the surface irradiance, so the buffer's values sit near 1 whatever
+    // the light's strength (compose multiplies it back).
+    s.irradiance = vec4(flux / (area * frame.surface_irradiance), 1.0);
+    return true;
+}
+
+// The point a landed photon draws (the paper's estimator); false when it cannot touch the
+// target.
+bool caustic_splat(Photon ph, out CausticSplat s) {
+    vec3 to_hit = ph.hit - frame.camera_position;
+    float size = regulated_point_size(length(to_hit), frame.z_near, frame.z_far,
+                                      frame.point_size_min, frame.point_size_max);
+    // Whole pixels: a square point of integer size covers exactly size² pixel centres
+    // wherever it lands, so each photon deposits exactly its flux (a fractional size covers
+    // floor² or ceil² pixels depending on its sub-pixel position).
+    size = clamp(round(size), 1.0, floor(frame.device_max_point_size));
+    return caustic_square(ph.hit, ph.flux * water_transmittance(ph.travelled), size, s);
+}
+#endif

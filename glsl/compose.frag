@@ -1,3 +1,0 @@
-#version 450
-// Compose variant; see compose.glsl.
-#include "compose.glsl"

@@ -1,5 +1,0 @@
-#version 450
-// Compose variant; see compose.glsl.
-#define HAS_CAUSTICS
-#define HAS_GODRAYS
-#include "compose.glsl"

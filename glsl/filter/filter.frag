@@ -1,0 +1,33 @@
+#version 450
+// Filter (method step 7): a low-pass over a sparse photon buffer with a kernel of TAPS taps
+// on a disc, rotated per pixel so the residual pattern becomes fine noise instead of a
+// regular grid. Weights are equal, so the filter keeps the buffer's mean (its energy).
+#include "shader_math.glsl"
+#include "frame_textures.glsl"
+
+layout(constant_id = 0) const int TAPS = 8;
+layout(push_constant) uniform FilterPush { float radius_px; } pc;
+layout(set = 0, binding = BINDING_FILTER_INPUT) uniform sampler2D input_buffer;
+
+layout(location = 0) in vec2 v_uv;
+layout(location = 0) out vec4 out_color;
+
+// Interleaved gradient noise (Jimenez 2014): a per-pixel rotation with little low-frequency
+// structure.
+float rotation_noise(vec2 p) {
+    return fract(52.9829189 * fract(dot(p, vec2(0.06711056, 0.00583715))));
+}
+
+void main() {
+    vec2 size = vec2(textureSize(input_buffer, 0));
+    vec2 texel = 1.0 / size;
+    float angle = 2.0 * PI * rotation_noise(gl_FragCoord.xy);
+    vec4 sum = texelFetch(input_buffer, ivec2(gl_FragCoord.xy), 0);
+    for (int i = 0; i < TAPS; ++i) {
+        // Taps on a golden-angle spiral fill the disc evenly.
+        float a = angle + float(i) * 2.39996323;
+        float r = pc.radius_px * sqrt((float(i) + 0.5) / float(TAPS));
+        sum += texture(input_buffer, v_uv + r * vec2(cos(a), sin(a)) * texel);
+    }
+    out_color = sum / float(TAPS + 1);
+}

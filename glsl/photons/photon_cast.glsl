@@ -1,0 +1,180 @@
+// Photon casting shared by the caustics and godrays geometry shaders (method steps 5–6):
+// a photon of the light-space grid is unprojected to a world ray, intersected with the
+// water surface, refracted, and intersected with the scene by Shah's image-space iteration
+// against the light's receiver-position map.
+#ifndef UNDERLIGHT_PHOTON_CAST_GLSL
+#define UNDERLIGHT_PHOTON_CAST_GLSL
+#include "frame.glsl"
+#include "frame_textures.glsl"
+
+#include "noise_texture.glsl"
+layout(set = 0, binding = BINDING_LIGHT_POSITION) uniform sampler2D light_position;
+layout(set = 0, binding = BINDING_LIGHT_NORMAL) uniform sampler2D light_normal;
+
+struct Photon {
+    vec3 surface;     // p_s: where it enters the water
+    vec3 direction;   // r_t: refracted direction (unit)
+    vec3 hit;         // p_i: where it meets the scene
+    float flux;       // W carried after the surface (Fresnel transmittance applied)
+    float travelled;  // |p_i − p_s|, m
+};
+
+// Texel of the light maps under world point p; false when p projects outside the map or
+// behind the light.
+bool light_texel(vec3 p, out ivec2 texel) {
+    vec4 c = frame.light_view_proj * vec4(p, 1.0);
+    if (c.w <= 0.0) return false;
+    vec2 uv = c.xy / c.w * 0.5 + 0.5;
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThanEqual(uv, vec2(1.0)))) return false;
+    texel = ivec2(uv * frame.light_map_size);
+    return true;
+}
+
+// Converged when the estimate lies on the receiver the map stores at its texel: within a
+// few map texels of that receiver's plane (a texel's world size grows with distance for a
+// point light), or 5 % of the distance travelled. Within the plane the allowance is
+// stretched by 1/cos of the light's incidence on the receiver, because that is how long a
+// texel's footprint is there: at a 10° sun a floor texel is 5.8 texels long, and the
+// iteration can only place the hit somewhere inside it. (Measuring the plain distance to
+// the stored point rejected most correct hits below a 15° sun.)
+bool converged(vec3 hit, vec3 receiver, vec3 receiver_normal, vec3 light_to_hit, float dist) {
+    float texel_size = 2.0 * max(frame.light_half_extent.x, frame.light_half_extent.y) / frame.light_map_size
+                     * (frame.light_is_point > 0.0 ? length(hit - frame.light_position) : 1.0);
+    float across_allowed = max(3.0 * texel_size, 0.05 * dist);
+    vec3 off = hit - receiver;
+    float len_n = length(receiver_normal);
+    if (!(len_n > 0.5)) return length(off) <= across_allowed; // no normal stored: plain distance
+    vec3 n = receiver_normal / len_n;
+    float across = abs(dot(off, n));
+    float along = length(off - dot(off, n) * n);
+    // 0.01 bounds the stretch at 100 (a receiver lit within 0.6° of edge-on).
+    float facing = max(abs(dot(n, light_to_hit)), 0.01);
+    return across <= across_allowed && along <= max(3.0 * texel_size / facing, 0.05 * dist);
+}
+
+// Why cast_photon dropped its photon (PHOTON_LANDED when it did not), for the flux budget
+// (`render --flux-budget`, src/flux_budget.rs, whose `DropReason` lists the same codes).
+const int PHOTON_LANDED = 0;
+const int PHOTON_MISSES_WATER = 1;
+const int PHOTON_OUTSIDE_WATER = 2;
+const int PHOTON_BLOCKED_ABOVE = 3;
+const int PHOTON_BACK_OF_WAVE = 4;
+const int PHOTON_TOTAL_REFLECTION = 5;
+const int PHOTON_LEAVES_MAP = 6;
+const int PHOTON_NOT_CONVERGED = 7;
+const int PHOTON_ABOVE_WATER = 8;
+const int PHOTON_NOT_FINITE = 9;
+int photon_fate = PHOTON_LANDED; // set by every cast_photon
+
+// Casts the photon at light-space position uv ∈ [0,1]² of a grid with `photons_per_axis`²
+// photons. Returns false for photons that never enter the water, are blocked before it,
+// leave the light's map, hit nothing, or whose iteration does not converge: those are
+// dropped, never splatted.
+bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
+    ph.surface = vec3(0.0); ph.direction = vec3(0.0); ph.hit = vec3(0.0); ph.flux = 0.0; ph.travelled = 0.0;
+    photon_fate = PHOTON_LANDED;
+    // The grid covers the water's footprint in the light's window, not the whole window.
+    uv = frame.photon_window_min + uv * frame.photon_window_size;
+    vec2 ndc = uv * 2.0 - 1.0;
+    vec4 a = frame.light_inv_view_proj * vec4(ndc, 0.0, 1.0);
+    vec4 b = frame.light_inv_view_proj * vec4(ndc, 1.0, 1.0);
+    vec3 o = a.xyz / a.w;
+    vec3 d = normalize(b.xyz / b.w - o);
+    // Flux of this photon before the surface (what a dropped photon's record carries): the
+    // light's power through its share of the photon window. Directional: E⊥ × window area
+    // / N². Point: I × the photon's solid angle (tangent-plane cell area × cos³ of its angle
+    // to the light's axis). The window is photon_window_size of the map's, so N² photons
+    // share that fraction of it.
+    float n2 = photons_per_axis * photons_per_axis / (frame.photon_window_size.x * frame.photon_window_size.y);
+    float flux;
+    if (frame.light_is_point == 0.0) {
+        flux = frame.light_strength * 4.0 * frame.light_half_extent.x * frame.light_half_extent.y / n2;
+    } else {
+        float c = max(dot(d, frame.light_axis), 0.0);
+        flux = frame.light_strength * 4.0 * frame.light_half_extent.x * frame.light_half_extent.y / n2 * c * c * c;
+    }
+    ph.flux = flux;
+
+    WaterParams w = frame_water();
+    float t = water_intersect(w, noise_tex, o, d, frame_water_phase());
+    if (!(t > 0.0)) { photon_fate = PHOTON_MISSES_WATER; return false; }
+    vec3 ps = o + t * d;
+    if (!water_covers(w, ps.xz)) { photon_fate = PHOTON_OUTSIDE_WATER; return false; }
+    // Blocked before reaching the water (a deck, a wall above it): the light's first
+    // receiver along the ray is nearer than the surface. This is the water mask, derived.
+    ivec2 texel;
+    if (light_texel(ps, texel)) {
+        vec4 first = texelFetch(light_position, texel, 0);
+        if (first.w > 0.0 && dot(first.xyz - o, d) < t - 1e-3) { photon_fate = PHOTON_BLOCKED_ABOVE; return false; }
+    }
+    vec3 hg = water_height_grad(w, noise_tex, ps.xz, frame_water_phase());
+    vec3 n = water_normal_from_grad(hg.yz);
+    float cos_i = dot(-d, n);
+    if (cos_i <= 0.0) { photon_fate = PHOTON_BACK_OF_WAVE; return false; } // the back of a steep wave
+    vec3 rt = refract(d, n, 1.0 / w.ior);
+    if (dot(rt, rt) == 0.0) { photon_fate = PHOTON_TOTAL_REFLECTION; return false; }
+    rt = normalize(rt);
+
+    // Shah's iteration: guess d, project p_s + d·r_t into the light's map, and take the stored
+    // receiver's distance F(d) from p_s as the next guess. The first guess assumes the
+    // receiver lies as deep below p_s as the one straight along the unrefracted ray (Shah
+    // takes that one's distance, which at a low sun is several times too far, and its
+    // map position may hold nothing). Shah's update d ← F(d) is a fixed-point iteration;
+    // it diverges where |F'| > 1, which for a horizontal receiver happens once the sun is
+    // below about 18° (F' = 1 − cos θt·cos(θi − θt)/sin e). From the second step on, the
+    // update is therefore a secant step on the same residual g(d) = F(d) − d, which uses the
+    // same one map fetch per step and converges there too. Where g is constant across a map
+    // texel the secant step equals Shah's.
+    // Where the map holds nothing straight along the light ray (at a low sun that ray leaves
+    // the receivers long before the refracted one would), the guess is the scene's lowest
+    // point: exact for a flat floor, and the secant steps correct it for anything above.
+    float bottom = ps.y - frame.scene_lowest_y;
+    float dist = bottom > 1e-3 ? bottom / max(-rt.y, 1e-3) : 1.0;
+    if (light_texel(ps, texel)) {
+        vec4 below = texelFetch(light_position, texel, 0);
+        float depth = ps.y - below.y;
+        if (below.w > 0.0) dist = depth > 1e-3 ? depth / max(-rt.y, 1e-3) : max(length(below.xyz - ps), 1e-3);
+    }
+    float prev_dist = 0.0, prev_g = 0.0;
+    bool have_prev = false;
+    int iterations = int(frame.iterations);
+    for (int i = 0; i < iterations; ++i) {
+        // A step that leaves the map or its receivers ends the iteration at the last estimate
+        // that had one (the convergence test below judges it): at a grazing sun a texel
+        // stretches over a third of a metre of floor, and a step from an exact first guess
+        // towards the texel's centre can leave the receivers. With no estimate yet, the
+        // photon hits nothing the map knows of and is dropped.
+        bool inside = light_texel(ps + dist * rt, texel);
+        vec4 r = inside ? texelFetch(light_position, texel, 0) : vec4(0.0);
+        if (r.w <= 0.0) {
+            if (!have_prev) { photon_fate = PHOTON_LEAVES_MAP; return false; }
+            dist = prev_dist;
+            break;
+        }
+        float g = length(r.xyz - ps) - dist;
+        float next = dist + g;
+        if (have_prev && abs(g - prev_g) > 1e-6 * max(dist, 1.0)) {
+            next = dist - g * (dist - prev_dist) / (g - prev_g);
+        }
+        prev_dist = dist; prev_g = g; have_prev = true;
+        dist = max(next, 1e-3);
+    }
+    vec3 hit = ps + dist * rt;
+    if (!light_texel(hit, texel)) { photon_fate = PHOTON_LEAVES_MAP; return false; }
+    vec4 r = texelFetch(light_position, texel, 0);
+    if (r.w <= 0.0) { photon_fate = PHOTON_LEAVES_MAP; return false; }
+    vec3 rn = texelFetch(light_normal, texel, 0).xyz;
+    vec3 to_hit = frame.light_is_point > 0.0 ? normalize(hit - frame.light_position) : frame.light_axis;
+    if (!converged(hit, r.xyz, rn, to_hit, dist)) { photon_fate = PHOTON_NOT_CONVERGED; return false; }
+    if (hit.y > w.level + abs(w.amplitude) + abs(w.noise_amplitude)) { photon_fate = PHOTON_ABOVE_WATER; return false; }
+
+    ph.surface = ps;
+    ph.direction = rt;
+    ph.hit = hit;
+    ph.flux = flux * fresnel_transmittance(cos_i, w.ior);
+    ph.travelled = dist;
+    bool finite = !(any(isnan(hit)) || any(isinf(hit)) || isnan(ph.flux) || isinf(ph.flux));
+    photon_fate = finite ? PHOTON_LANDED : PHOTON_NOT_FINITE;
+    return finite;
+}
+#endif

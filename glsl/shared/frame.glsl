@@ -1,0 +1,121 @@
+// The per-frame parameters every pass of the method reads (set 0, binding 0), each field by
+// its name. Rust side: frame::uniforms::FrameUniforms, field for field; a vec3 is followed by
+// a float and a vec2 starts at an even slot, so std430 inserts no padding, and
+// frame::uniforms::tests::glsl_block_matches_the_rust_struct fails on any difference.
+//
+// A read-only storage buffer, not a uniform buffer. Mesa's lavapipe (22.3) "inlines" uniform
+// values that decide a branch or a loop (the light kind, the water model, the iteration
+// count): it compiles a new variant of the shader at every draw that binds the uniform
+// buffer and never frees it. That leaked 24 MB per frame in the photon geometry shaders
+// (docs/reliability.md has the measurements and a minimal reproduction). Storage-buffer
+// loads are never inlined; on a GPU a read-only buffer read at a dynamically uniform address
+// is an ordinary cached load.
+#ifndef UNDERLIGHT_FRAME_GLSL
+#define UNDERLIGHT_FRAME_GLSL
+#include "shader_math.glsl"
+
+layout(set = 0, binding = BINDING_UNIFORMS, std430) readonly buffer FrameUniforms {
+    mat4 camera_view_proj;
+    mat4 light_view_proj;
+    mat4 light_inv_view_proj;
+    mat4 camera_inv_view_proj;     // pixel rays: where each starts (above or under the water)
+    vec3 camera_position;
+    float time;                    // s
+    float z_near;
+    float z_far;
+    float tan_half_fov_y;
+    float aspect;
+    vec3 light_position;           // the light frame's origin (directional) or the point light
+    float light_is_point;          // 0 directional, 1 point
+    vec3 light_axis;               // directional: travel direction; point: the frustum's axis
+    float scene_lowest_y;          // height of the scene's lowest point, m
+    float surface_irradiance;      // E_surface, W/m²: the caustic buffer stores irradiance / E_surface (docs/units.md)
+    float light_strength;          // E⊥ W/m² (directional) or I W/sr (point)
+    vec2 light_half_extent;        // half sizes of the orthographic window, m (directional), or tan of the half angles (point)
+    float water_level;
+    float wave_amplitude;
+    float wavelength;
+    float wave_speed;
+    float noise_amplitude;
+    float noise_scale;             // metres per noise tile
+    float ior;
+    float water_model;             // WATER_CIRCULAR_COSINE or WATER_AXIS_COSINE_NOISE
+    vec2 wave_center;
+    vec2 water_extent_min;
+    vec2 water_extent_max;
+    float ambient_irradiance;      // W/m² just under the surface
+    float exposure;
+    vec3 attenuation;              // γ per channel, 1/m
+    float scattering;              // σ_s, 1/m
+    float point_size_min;
+    float point_size_max;
+    float line_width;
+    float hg_g;                    // Henyey–Greenstein g
+    float caustic_photons_per_axis;
+    float godray_photons_per_axis;
+    float iterations;              // image-space iteration steps
+    float light_map_size;
+    float device_max_point_size;
+    float device_max_line_width;
+    vec2 caustic_target_size;
+    vec2 godray_target_size;
+    vec2 output_size;
+    vec3 water_phase;              // the water's phase at this frame's time (shader_math.glsl, water_height_grad)
+    float surface_views_ready;     // 1 if this frame recorded the refraction and reflection passes
+    vec2 camera_water_gradient;    // the surface's gradient at the camera's xz (the CPU twin's, for the pixels' side, underwater_shading.glsl)
+    float camera_water_height;     // the surface's height above the level there
+    float unused;
+    vec2 photon_window_min;        // the photon grids' part of the light's map window (uv): the water's footprint
+    vec2 photon_window_size;
+} frame;
+
+WaterParams frame_water() {
+    WaterParams w;
+    w.model = int(frame.water_model);
+    w.level = frame.water_level;
+    w.amplitude = frame.wave_amplitude;
+    w.wavelength = frame.wavelength;
+    w.speed = frame.wave_speed;
+    w.noise_amplitude = frame.noise_amplitude;
+    w.noise_scale = frame.noise_scale;
+    w.ior = frame.ior;
+    w.center = frame.wave_center;
+    w.extent_min = frame.water_extent_min;
+    w.extent_max = frame.water_extent_max;
+    return w;
+}
+
+float frame_time() { return frame.time; }
+vec3 frame_water_phase() { return frame.water_phase; }
+// Whether the refraction and reflection views were rendered this frame (the camera can see
+// the surface from above).
+bool frame_surface_views_ready() { return frame.surface_views_ready > 0.5; }
+
+// Distance from the camera along its view axis for a depth-buffer value (Vulkan [0, 1]
+// depth, standard perspective).
+float linear_view_depth(float depth) {
+    float n = frame.z_near, f = frame.z_far;
+    return n * f / (f - depth * (f - n));
+}
+
+// World area one pixel of a target `height_px` tall covers at distance d along its ray, on
+// a surface whose normal makes cosine `cos_view` with the ray; `cos_axis` is the cosine
+// between the ray and the camera axis (a pinhole's pixel solid angle shrinks by cos³).
+// Grazing views are clamped (cos ≥ 0.2) so a splat cannot blow up to infinity.
+// Transmittance of `metres` of water per RGB channel, e^(−γ·d): the one place the medium's
+// attenuation is applied (photons to their hit, beams, the view ray, the ambient light).
+vec3 water_transmittance(float metres) {
+    return exp(-frame.attenuation * metres);
+}
+
+float pixel_world_area(float d, float cos_view, float cos_axis, float height_px) {
+    float side = 2.0 * frame.tan_half_fov_y / height_px;
+    return side * side * cos_axis * cos_axis * cos_axis * d * d / max(cos_view, 0.2);
+}
+
+vec3 camera_forward() {
+    // Row 3 of view_proj is the clip w = distance along the axis; its xyz is the axis.
+    vec4 r = vec4(frame.camera_view_proj[0].w, frame.camera_view_proj[1].w, frame.camera_view_proj[2].w, 0.0);
+    return normalize(r.xyz);
+}
+#endif

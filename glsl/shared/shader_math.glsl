@@ -1,0 +1,219 @@
+// Shared shader math. Its Rust twin is src/shader_math.rs: change both together (the tests
+// compare GPU output with the twin).
+#ifndef UNDERLIGHT_SHADER_MATH_GLSL
+#define UNDERLIGHT_SHADER_MATH_GLSL
+
+const float PI = 3.14159265358979;
+
+// Largest per-axis photon subdivision a geometry shader invocation emits. max_vertices must
+// be a compile-time literal, so the shader is compiled for this bound and the actual factor is
+// a specialization constant the driver unrolls at pipeline creation.
+const int MAX_SUBDIVISION = 8;
+// The triangle estimator's bound (caustics_triangles.geom): its output per mesh cell is
+// larger, and 3 keeps it within the 1024 output components every such device offers.
+const int TRIANGLE_MAX_SUBDIVISION = 3;
+
+// Position in [0,1]^2 (light clip space mapped to texture space) of photon `sub` of coarse
+// cell `cell` in a `grid` photon grid subdivided `subdiv`×`subdiv`: the centres of the
+// sub-cells, so the photons of all cells tile the grid evenly.
+vec2 photon_grid_uv(uvec2 cell, uvec2 sub, uint subdiv, uvec2 grid) {
+    return (vec2(cell) + (vec2(sub) + 0.5) / float(subdiv)) / vec2(grid);
+}
+
+// The same position for photon number `index` when photons are numbered in the geometry
+// shader's emission order (cell by cell in rows, within a cell row by row): the paths without
+// an amplification stage (one vertex or one invocation per photon) use it, so they visit
+// the photons, and blend their splats, in the same order.
+vec2 photon_index_uv(uint index, uint subdiv, uint grid) {
+    uint per_cell = subdiv * subdiv;
+    uint cell = index / per_cell;
+    uint k = index % per_cell;
+    return photon_grid_uv(uvec2(cell % grid, cell / grid), uvec2(k % subdiv, k / subdiv), subdiv, uvec2(grid));
+}
+
+// Gradient of a small sum of travelling sine waves over [0,1]^2. The foundation's demo
+// displaces photons by it, which focuses them into caustic-like lines.
+vec2 demo_wave_gradient(vec2 uv, float t) {
+    vec2 k1 = vec2(7.0, 3.0) * 2.0 * PI;
+    vec2 k2 = vec2(-4.0, 9.0) * 2.0 * PI;
+    return k1 * cos(dot(k1, uv) + 1.3 * t) / dot(k1, k1)
+         + k2 * cos(dot(k2, uv) + 0.9 * t) / dot(k2, k2);
+}
+
+
+// ---------------------------------------------------------------------------------------
+// Water surface. y is up; the mean plane is y = level. Rust twin: shader_math::water_*.
+
+const int WATER_CIRCULAR_COSINE = 0;   // circular cosine + small noise
+const int WATER_AXIS_COSINE_NOISE = 1; // cosine along x + strong noise
+
+struct WaterParams {
+    int model;
+    float level;
+    float amplitude;
+    float wavelength;
+    float speed;
+    float noise_amplitude;
+    float noise_scale; // metres per noise tile
+    float ior;
+    vec2 center;
+    vec2 extent_min;
+    vec2 extent_max;
+};
+
+// The noise texture holds (value, d/du, d/dv) of tileable gradient noise; it is sampled
+// with explicit bilinear weights from texelFetch so the CPU twin reproduces it bit for bit
+// up to float rounding (hardware filtering uses few fractional bits on many GPUs).
+vec3 sample_noise(sampler2D tex, vec2 uv) {
+    ivec2 size = textureSize(tex, 0);
+    // Wrap first: GLSL's % is undefined for negative operands, and a texelFetch outside
+    // the texture is undefined behaviour (lavapipe crashes on it).
+    vec2 p = fract(uv) * vec2(size) - 0.5;
+    vec2 f = p - floor(p);
+    ivec2 a = ivec2(floor(p));                     // in [-1, size - 1]
+    ivec2 b = a + 1;                               // in [0, size]
+    a = ivec2(mix(a, a + size, lessThan(a, ivec2(0))));
+    b = ivec2(mix(b, b - size, greaterThanEqual(b, size)));
+    a = clamp(a, ivec2(0), size - 1);              // NaN input: stay inside
+    b = clamp(b, ivec2(0), size - 1);
+    vec3 t00 = texelFetch(tex, ivec2(a.x, a.y), 0).xyz;
+    vec3 t10 = texelFetch(tex, ivec2(b.x, a.y), 0).xyz;
+    vec3 t01 = texelFetch(tex, ivec2(a.x, b.y), 0).xyz;
+    vec3 t11 = texelFetch(tex, ivec2(b.x, b.y), 0).xyz;
+    return mix(mix(t00, t10, f.x), mix(t01, t11, f.x), f.y);
+}
+
+// The water's animation at one time, `phase`: x, the waves' phase k·speed·t reduced modulo
+// 2π; yz, the noise's drift (0.6, 0.8)·speed·t / noise_scale in tiles, reduced modulo 1.
+// Both are reduced on the CPU in double precision (shader_math::water_phase), so the surface
+// keeps its shape at late times: in single precision, the drift of the noise alone would
+// quantise positions to millimetres after a day.
+
+// Where the noise is read for world point xz: it drifts with the wave speed.
+vec2 water_noise_uv(WaterParams w, vec2 xz, vec2 drift) {
+    return xz / w.noise_scale + drift;
+}
+
+// Height above the mean plane (x) and its gradient d/dx, d/dz (yz) at xz.
+vec3 water_height_grad(WaterParams w, sampler2D noise, vec2 xz, vec3 phase) {
+    float k = 2.0 * PI / w.wavelength;
+    float phase_t = phase.x;
+    vec3 hg = vec3(0.0);
+    if (w.model == WATER_CIRCULAR_COSINE) {
+        vec2 d = xz - w.center;
+        float r = length(d);
+        float ph = k * r - phase_t;
+        hg.x = w.amplitude * cos(ph);
+        vec2 dir = r > 1e-6 ? d / r : vec2(0.0);
+        hg.yz = -w.amplitude * k * sin(ph) * dir;
+    } else {
+        float ph = k * xz.x - phase_t;
+        hg.x = w.amplitude * cos(ph);
+        hg.yz = vec2(-w.amplitude * k * sin(ph), 0.0);
+    }
+    vec3 n = sample_noise(noise, water_noise_uv(w, xz, phase.yz));
+    hg.x += w.noise_amplitude * n.x;
+    hg.yz += (w.noise_amplitude / w.noise_scale) * n.yz;
+    return hg;
+}
+
+vec3 water_normal_from_grad(vec2 grad) {
+    return normalize(vec3(-grad.x, 1.0, -grad.y));
+}
+
+bool water_covers(WaterParams w, vec2 xz) {
+    return all(greaterThanEqual(xz, w.extent_min)) && all(lessThanEqual(xz, w.extent_max));
+}
+
+// Intersects a downward ray with the surface. The surface lies in the slab level ± (amplitude
+// + noise amplitude) (the noise's values stay within ±1). The ray is marched through that
+// slab to the first step that ends below the surface. Steps are a quarter of the shortest
+// wave feature along the ray's horizontal travel, so a step passes at most one crest (8 at
+// least, WATER_MAX_MARCH_STEPS at most). The crossing is refined inside that step by
+// regula falsi (Illinois). A bracketed search converges however grazing the ray. Fixed-point
+// iteration on the mean plane, by contrast, diverges once the slope along the ray exceeds the
+// ray's steepness: at 10° sun elevation, already for waves of slope 0.2. A result not within
+// 1 % of the waves' height of the surface (steps too coarse for absurdly steep waves) counts
+// as a miss. Returns t (< 0: no hit: the ray does not go down, starts below the slab, or the
+// search did not converge).
+const int WATER_MAX_MARCH_STEPS = 64;
+const int WATER_REFINE_STEPS = 8;
+// Shortest noise feature, in noise tiles: the octaves have 8, 16 and 32 cells per tile and
+// most of their height is in the first two.
+const float WATER_NOISE_FEATURE = 1.0 / 16.0;
+
+float water_height_above_surface(WaterParams w, sampler2D noise, vec3 o, vec3 d, float t, vec3 phase) {
+    vec3 p = o + t * d;
+    return p.y - w.level - water_height_grad(w, noise, p.xz, phase).x;
+}
+
+float water_intersect(WaterParams w, sampler2D noise, vec3 o, vec3 d, vec3 phase) {
+    if (d.y >= -1e-6) return -1.0;
+    float bound = abs(w.amplitude) + abs(w.noise_amplitude);
+    float t_top = max((w.level + bound - o.y) / d.y, 0.0);
+    float t_bottom = (w.level - bound - o.y) / d.y;
+    if (t_bottom < t_top) return -1.0;
+    if (bound == 0.0) return t_bottom; // flat: the mean plane
+    float ta = t_top, fa = water_height_above_surface(w, noise, o, d, ta, phase);
+    if (fa <= 0.0) return ta; // starts at or below the surface
+    float feature = min(w.amplitude > 0.0 ? w.wavelength : 1e30,
+                        w.noise_amplitude > 0.0 ? w.noise_scale * WATER_NOISE_FEATURE : 1e30);
+    float horizontal = (t_bottom - t_top) * length(d.xz);
+    int steps = int(clamp(ceil(4.0 * horizontal / feature), 8.0, float(WATER_MAX_MARCH_STEPS)));
+    float dt = (t_bottom - t_top) / float(steps);
+    float tb = t_bottom, fb = water_height_above_surface(w, noise, o, d, tb, phase);
+    for (int i = 1; i < steps; ++i) {
+        float t = t_top + float(i) * dt;
+        float f = water_height_above_surface(w, noise, o, d, t, phase);
+        if (f <= 0.0) { tb = t; fb = f; break; }
+        ta = t; fa = f;
+    }
+    if (fb > 0.0) return -1.0; // rounding at the slab's floor
+    // Illinois: halve the value kept at an end that survives twice, so both ends move. The
+    // answer is the evaluated point nearest the surface, not the last estimate: where the
+    // surface runs almost along the ray (a grazing sun over noise), Illinois can stall beside
+    // a near-tangent point it already passed, and the last estimate is the worse one.
+    float best_t = tb, best_f = abs(fb);
+    int kept = 0;
+    for (int i = 0; i < WATER_REFINE_STEPS; ++i) {
+        float t = ta + (tb - ta) * fa / (fa - fb);
+        float f = water_height_above_surface(w, noise, o, d, t, phase);
+        if (abs(f) < best_f) { best_t = t; best_f = abs(f); }
+        if (f > 0.0) { ta = t; fa = f; if (kept == -1) fb *= 0.5; kept = -1; }
+        else { tb = t; fb = f; if (kept == 1) fa *= 0.5; kept = 1; }
+    }
+    float t = ta + (tb - ta) * fa / (fa - fb);
+    float f = water_height_above_surface(w, noise, o, d, t, phase);
+    if (abs(f) < best_f) { best_t = t; best_f = abs(f); }
+    return best_f <= 0.01 * bound + 1e-4 ? best_t : -1.0;
+}
+
+// Fresnel transmittance for unpolarised light from a medium of index 1 into index n,
+// at incidence cosine cos_i (the full equations, not Schlick).
+float fresnel_transmittance(float cos_i, float n) {
+    cos_i = clamp(cos_i, 0.0, 1.0);
+    float sin_t2 = (1.0 - cos_i * cos_i) / (n * n);
+    if (sin_t2 >= 1.0) return 0.0;
+    float cos_t = sqrt(1.0 - sin_t2);
+    float rs = (cos_i - n * cos_t) / (cos_i + n * cos_t);
+    float rp = (n * cos_i - cos_t) / (n * cos_i + cos_t);
+    return 1.0 - 0.5 * (rs * rs + rp * rp);
+}
+
+// Henyey–Greenstein phase function, 1/sr; cos_theta between propagation and the direction
+// (the angle between the light's travel direction and the direction of the scattered ray).
+float henyey_greenstein(float cos_theta, float g) {
+    float denom = 1.0 + g * g - 2.0 * g * cos_theta;
+    return (1.0 - g * g) / (4.0 * PI * denom * sqrt(denom));
+}
+
+// The paper's distance-regulated point size: s_max at z_near, s_min at z_far, s = a + b/d.
+// The distance is clamped to [z_near, z_far]: beyond z_far the formula would fall below
+// s_min (and below zero).
+float regulated_point_size(float d_view, float z_near, float z_far, float s_min, float s_max) {
+    float a = s_max - z_far * (s_max - s_min) / (z_far - z_near);
+    float b = z_near * z_far * (s_max - s_min) / (z_far - z_near);
+    return a + b / clamp(d_view, z_near, z_far);
+}
+
+#endif
