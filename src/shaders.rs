@@ -10,8 +10,11 @@
 //! (`shader_math.glsl`). Every `.vert`/`.geom`/`.frag`/`.comp` is a program named by its file
 //! name; [`VARIANTS`] adds the programs that are another's source with defines.
 
+use crate::vk::device::Device;
+use crate::vk::pipeline::{ComputePipelineDesc, GraphicsPipelineDesc, Pipeline};
 use anyhow::{bail, Context as _, Result};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 include!(concat!(env!("OUT_DIR"), "/embedded_spirv.rs"));
 
@@ -28,13 +31,16 @@ pub fn embedded(name: &str) -> Option<&'static [u8]> {
     EMBEDDED_SPIRV.iter().find(|(file, _)| file.strip_suffix(".spv") == Some(name)).map(|(_, bytes)| *bytes)
 }
 
-/// SPIR-V bytes as 32-bit words (copied: `include_bytes!` gives no 4-byte alignment).
-pub fn spirv_words(bytes: &[u8]) -> Option<Vec<u32>> {
-    if !bytes.len().is_multiple_of(4) || bytes.len() < 20 {
-        return None;
-    }
-    let words: Vec<u32> = bytes.chunks_exact(4).map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect();
-    (words[0] == 0x0723_0203).then_some(words)
+pub use crate::vk::pipeline::spirv_words;
+
+/// A graphics pipeline whose stages are the embedded programs its description names.
+pub fn graphics_pipeline(device: &Arc<Device>, desc: &GraphicsPipelineDesc<'_>) -> crate::error::Result<Pipeline> {
+    Pipeline::graphics(device, &embedded, desc)
+}
+
+/// A compute pipeline whose shader is the embedded program its description names.
+pub fn compute_pipeline(device: &Arc<Device>, desc: &ComputePipelineDesc<'_>) -> crate::error::Result<Pipeline> {
+    Pipeline::compute(device, &embedded, desc)
 }
 
 /// The source tree's `glsl/` and `spirv/` folders (this crate's, as built).

@@ -10,6 +10,7 @@ use crate::passes::{require_accumulation_format, PhotonPath, ACCUMULATION_FORMAT
 use crate::scene::CausticEstimator;
 use crate::shader_abi::bindings as b;
 use crate::shader_math::{MAX_SUBDIVISION, TRIANGLE_MAX_SUBDIVISION};
+use crate::shaders;
 use crate::vk::buffer::Buffer;
 use crate::vk::descriptors::{Binding, DescriptorSets, Resource};
 use crate::vk::device::Device;
@@ -143,7 +144,7 @@ impl CausticsPass {
         let specialization = [(0, subdivision)];
         let set_layouts = [sets.layout];
         let compute = |name: &str, shader: &str| {
-            Pipeline::compute(
+            shaders::compute_pipeline(
                 device,
                 &ComputePipelineDesc {
                     name,
@@ -175,13 +176,15 @@ impl CausticsPass {
                     fragment: "caustics_triangles.frag",
                     ..points("photon_grid.vert", Some("caustics_triangles.geom"))
                 };
-                (Pipeline::graphics(device, &desc)?, None, None)
+                (shaders::graphics_pipeline(device, &desc)?, None, None)
             }
             PhotonPath::GeometryShader => {
                 let geometry = if record_photons { "caustics_debug.geom" } else { "caustics.geom" };
-                (Pipeline::graphics(device, &points("photon_grid.vert", Some(geometry)))?, None, None)
+                (shaders::graphics_pipeline(device, &points("photon_grid.vert", Some(geometry)))?, None, None)
             }
-            PhotonPath::VertexOnly => (Pipeline::graphics(device, &points("caustics_vertex.vert", None))?, None, None),
+            PhotonPath::VertexOnly => {
+                (shaders::graphics_pipeline(device, &points("caustics_vertex.vert", None))?, None, None)
+            }
             PhotonPath::Compute => {
                 let accumulation = AtomicAccumulation::new(device, "caustics", &target)?;
                 (compute("caustics compute", "caustics.comp")?, Some(accumulation), None)
@@ -194,7 +197,7 @@ impl CausticsPass {
                     vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::VERTEX_BUFFER,
                     gpu_allocator::MemoryLocation::GpuOnly,
                 )?;
-                let draw = Pipeline::graphics(
+                let draw = shaders::graphics_pipeline(
                     device,
                     &GraphicsPipelineDesc {
                         vertex_stride: SPLAT_RECORD_BYTES as u32,

@@ -5,6 +5,7 @@
 
 use crate::error::Result;
 use crate::shader_abi::bindings as b;
+use crate::shaders;
 use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
@@ -53,7 +54,7 @@ impl ComposePass {
             (false, true) => "compose_godrays.frag",
             (true, true) => "compose_caustics_godrays.frag",
         };
-        let pipeline = Pipeline::graphics(
+        let pipeline = shaders::graphics_pipeline(
             device,
             &GraphicsPipelineDesc {
                 set_layouts: &[sets.layout],

@@ -5,6 +5,7 @@
 
 use crate::error::Result;
 use crate::shader_abi::bindings as b;
+use crate::shaders;
 use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
@@ -33,7 +34,7 @@ impl FilterPass {
         let sets = DescriptorSets::new(device, name, BINDINGS, FRAMES_IN_FLIGHT as u32)?;
         let output =
             ColorTarget::new(device, name, input.extent, input.format, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)?;
-        let pipeline = Pipeline::graphics(
+        let pipeline = shaders::graphics_pipeline(
             device,
             &GraphicsPipelineDesc {
                 specialization: &[(0, TAPS)],

@@ -8,6 +8,7 @@ use crate::passes::photon_accumulation::{dispatch_per_photon, require_float_atom
 use crate::passes::{require_accumulation_format, PhotonPath, ACCUMULATION_FORMAT, PHOTON_SETS};
 use crate::shader_abi::bindings as b;
 use crate::shader_math::GODRAY_MAX_SUBDIVISION;
+use crate::shaders;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
 use crate::vk::pipeline::{Blend, ComputePipelineDesc, GraphicsPipelineDesc, Pipeline};
@@ -88,7 +89,10 @@ impl GodraysPass {
         };
         let (pipeline, accumulation) = match path {
             PhotonPath::VertexOnly => (
-                Pipeline::graphics(device, &lines("godrays_vertex.vert", None, vk::PrimitiveTopology::LINE_LIST))?,
+                shaders::graphics_pipeline(
+                    device,
+                    &lines("godrays_vertex.vert", None, vk::PrimitiveTopology::LINE_LIST),
+                )?,
                 None,
             ),
             PhotonPath::Compute => {
@@ -103,10 +107,10 @@ impl GodraysPass {
                     push_constant_bytes: 4,
                     set_layouts: &set_layouts,
                 };
-                (Pipeline::compute(device, &desc)?, Some(accumulation))
+                (shaders::compute_pipeline(device, &desc)?, Some(accumulation))
             }
             _ => (
-                Pipeline::graphics(
+                shaders::graphics_pipeline(
                     device,
                     &lines("photon_grid.vert", Some("godrays.geom"), vk::PrimitiveTopology::POINT_LIST),
                 )?,

@@ -8,6 +8,7 @@
 
 use crate::error::{Error, Result};
 use crate::shader_math::MAX_SUBDIVISION;
+use crate::shaders;
 use crate::vk::device::Device;
 use crate::vk::pipeline::{Blend, GraphicsPipelineDesc, Pipeline};
 use crate::vk::render_pass::ColorTarget;
@@ -109,7 +110,7 @@ impl GridSplatPass {
     ) -> Result<Self> {
         settings.validate(device)?;
         let target = ColorTarget::new(device, "grid_splat", extent, TARGET_FORMAT, final_layout)?;
-        let pipeline = Pipeline::graphics(
+        let pipeline = shaders::graphics_pipeline(
             device,
             &GraphicsPipelineDesc {
                 geometry: Some("grid_splat.geom"),

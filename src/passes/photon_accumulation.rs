@@ -5,6 +5,7 @@
 
 use crate::error::{Error, Result};
 use crate::shader_abi::bindings as b;
+use crate::shaders;
 use crate::vk::buffer::Buffer;
 use crate::vk::descriptors::{Binding, DescriptorSets, Resource};
 use crate::vk::device::Device;
@@ -61,7 +62,7 @@ impl AtomicAccumulation {
         let resolve_sets =
             DescriptorSets::new(device, &format!("{name} resolve"), &[(b::PHOTON_ACCUMULATION, Binding::Storage)], 1)?;
         resolve_sets.write_at(0, vec![(b::PHOTON_ACCUMULATION as usize, Self::resource_of(&buffer))]);
-        let resolve = Pipeline::graphics(
+        let resolve = shaders::graphics_pipeline(
             device,
             &GraphicsPipelineDesc {
                 push_constant_bytes: 8,

@@ -8,6 +8,7 @@
 use crate::error::Result;
 use crate::passes::mesh::{GpuMeshes, MeshVertex, MESH_ATTRIBUTES};
 use crate::shader_abi::bindings as b;
+use crate::shaders;
 use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
@@ -42,7 +43,7 @@ pub fn mesh_pipeline(
     set_layout: vk::DescriptorSetLayout,
     render_pass: vk::RenderPass,
 ) -> Result<Pipeline> {
-    Pipeline::graphics(
+    shaders::graphics_pipeline(
         device,
         &GraphicsPipelineDesc {
             color_attachments: attachments,
@@ -183,7 +184,7 @@ impl ScenePass {
         let CameraTargets { color, albedo: albedo_transmittance, depth, render_pass } =
             CameraTargets::new(device, "scene", "albedo×transmittance", extent, vk::ImageUsageFlags::TRANSFER_SRC)?;
         let layouts = [sets.layout];
-        let background_pipeline = Pipeline::graphics(
+        let background_pipeline = shaders::graphics_pipeline(
             device,
             &GraphicsPipelineDesc {
                 color_attachments: 2,
@@ -192,7 +193,7 @@ impl ScenePass {
             },
         )?;
         let mesh_pipeline = mesh_pipeline(device, "scene meshes", View::Camera, 2, sets.layout, render_pass.raw)?;
-        let water_pipeline = Pipeline::graphics(
+        let water_pipeline = shaders::graphics_pipeline(
             device,
             &GraphicsPipelineDesc {
                 color_attachments: 2,

@@ -7,6 +7,7 @@
 use crate::error::Result;
 use crate::passes::mesh::{GpuMeshes, MESH_ATTRIBUTES};
 use crate::shader_abi::bindings as b;
+use crate::shaders;
 use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
@@ -60,7 +61,7 @@ impl ShadowPass {
                 final_layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
             }),
         )?;
-        let pipeline = Pipeline::graphics(
+        let pipeline = shaders::graphics_pipeline(
             device,
             &GraphicsPipelineDesc {
                 color_attachments: 2,

@@ -1,11 +1,12 @@
 //! Shader modules, graphics pipelines and compute pipelines.
 //!
 //! Pipelines are described by a small struct rather than a builder chain, so a pass states
-//! in one place what its pipeline does (topology, blending, depth, specialization).
+//! in one place what its pipeline does (topology, blending, depth, specialization). Stages are
+//! named; the caller says where a name's SPIR-V is (`shaders::graphics_pipeline` passes the
+//! embedded table), so the backend knows no shader of its own.
 
 use super::device::Device;
 use crate::error::{Error, Result, VkResultExt};
-use crate::shaders;
 use ash::vk;
 use std::sync::Arc;
 
@@ -21,7 +22,7 @@ pub enum Blend {
 /// Everything a pass decides about its graphics pipeline.
 pub struct GraphicsPipelineDesc<'a> {
     pub name: &'a str,
-    /// Embedded SPIR-V names, e.g. `grid_splat.vert`; geometry is optional.
+    /// Program names, e.g. `grid_splat.vert`, found by the caller's lookup; geometry is optional.
     pub vertex: &'a str,
     pub geometry: Option<&'a str>,
     pub fragment: &'a str,
@@ -72,7 +73,7 @@ impl<'a> GraphicsPipelineDesc<'a> {
 /// Everything a pass decides about a compute pipeline.
 pub struct ComputePipelineDesc<'a> {
     pub name: &'a str,
-    /// Embedded SPIR-V name, e.g. `caustics.comp`.
+    /// Program name, e.g. `caustics.comp`, found by the caller's lookup.
     pub shader: &'a str,
     pub specialization: &'a [(u32, u32)],
     pub push_constant_bytes: u32,
@@ -115,10 +116,23 @@ fn specialization_data(constants: &[(u32, u32)]) -> (Vec<vk::SpecializationMapEn
     (entries, constants.iter().flat_map(|(_, v)| v.to_ne_bytes()).collect())
 }
 
-/// Creates a shader module from embedded SPIR-V.
-fn shader_module(device: &Device, name: &str) -> Result<vk::ShaderModule> {
-    let bytes = shaders::embedded(name).ok_or_else(|| Error::MissingShader(name.to_string()))?;
-    let words = shaders::spirv_words(bytes)
+/// The SPIR-V of a program by name, or `None` where there is no such program.
+pub type ShaderLookup<'a> = &'a dyn Fn(&str) -> Option<&'static [u8]>;
+
+/// SPIR-V bytes as 32-bit words (copied: `include_bytes!` gives no 4-byte alignment), or
+/// `None` where they are not SPIR-V.
+pub fn spirv_words(bytes: &[u8]) -> Option<Vec<u32>> {
+    if !bytes.len().is_multiple_of(4) || bytes.len() < 20 {
+        return None;
+    }
+    let words: Vec<u32> = bytes.chunks_exact(4).map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect();
+    (words[0] == 0x0723_0203).then_some(words)
+}
+
+/// Creates a shader module from the SPIR-V `lookup` has for `name`.
+fn shader_module(device: &Device, lookup: ShaderLookup<'_>, name: &str) -> Result<vk::ShaderModule> {
+    let bytes = lookup(name).ok_or_else(|| Error::MissingShader(name.to_string()))?;
+    let words = spirv_words(bytes)
         .ok_or_else(|| Error::InvalidParameter { name: "spirv", message: format!("{name} is not SPIR-V") })?;
     let info = vk::ShaderModuleCreateInfo::default().code(&words);
     let module = unsafe { device.raw.create_shader_module(&info, None) }.call("vkCreateShaderModule")?;
@@ -145,7 +159,7 @@ impl Pipeline {
         Ok(Self { raw: vk::Pipeline::null(), layout, bind_point, push_stages, device: device.clone() })
     }
 
-    pub fn graphics(device: &Arc<Device>, desc: &GraphicsPipelineDesc<'_>) -> Result<Self> {
+    pub fn graphics(device: &Arc<Device>, lookup: ShaderLookup<'_>, desc: &GraphicsPipelineDesc<'_>) -> Result<Self> {
         let raw_dev = &device.raw;
         let mut pipeline = Self::with_layout(
             device,
@@ -162,7 +176,7 @@ impl Pipeline {
         stages_named.push((vk::ShaderStageFlags::FRAGMENT, desc.fragment));
         let mut modules = Vec::new();
         for (_, name) in &stages_named {
-            match shader_module(device, name) {
+            match shader_module(device, lookup, name) {
                 Ok(m) => modules.push(m),
                 Err(e) => {
                     for m in modules {
@@ -265,7 +279,7 @@ impl Pipeline {
         Ok(pipeline)
     }
 
-    pub fn compute(device: &Arc<Device>, desc: &ComputePipelineDesc<'_>) -> Result<Self> {
+    pub fn compute(device: &Arc<Device>, lookup: ShaderLookup<'_>, desc: &ComputePipelineDesc<'_>) -> Result<Self> {
         let mut pipeline = Self::with_layout(
             device,
             desc.name,
@@ -274,7 +288,7 @@ impl Pipeline {
             vk::PipelineBindPoint::COMPUTE,
         )?;
         let layout = pipeline.layout;
-        let module = shader_module(device, desc.shader)?;
+        let module = shader_module(device, lookup, desc.shader)?;
         let (spec_entries, spec_data) = specialization_data(desc.specialization);
         let spec = vk::SpecializationInfo::default().map_entries(&spec_entries).data(&spec_data);
         let stage = vk::PipelineShaderStageCreateInfo::default()
