@@ -1,0 +1,146 @@
+//! The `underlight` command line: the global options, the argument types and parsers the
+//! subcommands share, the output helpers, and the dispatch to one module per subcommand.
+
+mod bench;
+mod devices;
+mod grid_splat;
+mod reference;
+mod render;
+mod shaders;
+mod sweep;
+mod view;
+
+use anyhow::{bail, Context as _, Result};
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use underlight::vk::{Context, ContextDesc};
+
+#[derive(Parser)]
+#[command(name = "underlight", version, about = "Real-time underwater caustics and godrays (Vulkan)")]
+pub(crate) struct Cli {
+    /// Enable the Khronos validation layer with synchronization validation (also: UNDERLIGHT_VALIDATION=1).
+    #[arg(long, global = true)]
+    validation: bool,
+    /// Use the Vulkan device whose name contains this (also: UNDERLIGHT_DEVICE).
+    #[arg(long, global = true, value_name = "NAME")]
+    device: Option<String>,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene headless to a PNG (and HDR float dumps) and print per-pass GPU times.
+    Render(render::SceneArgs),
+    /// Open a window and run the method live (keys are printed at start).
+    View(view::ViewArgs),
+    /// Per-pass GPU times (median, p5, p95) for the paper's configurations, validation off.
+    Bench(bench::BenchArgs),
+    /// The foundation's demo: a geometry-shader photon grid splatted into a float target.
+    GridSplat(grid_splat::RenderArgs),
+    /// Compile glsl/ into spirv/ (the committed SPIR-V the binary embeds).
+    Shaders(shaders::ShadersArgs),
+    /// List Vulkan devices and whether each has what underlight needs.
+    Devices,
+    /// The CPU reference of a scene's caustic and godray buffers (exact rays, no image-space
+    /// iteration): float dumps and tonemapped PNGs, cached by scene and settings.
+    Reference(reference::ReferenceArgs),
+    /// The speed–accuracy trade: every combination of the given settings, each one's GPU time
+    /// and its error against the reference; writes CSV, a Markdown table and the Pareto plot.
+    Sweep(sweep::SweepArgs),
+}
+
+fn context_desc(cli: &Cli) -> ContextDesc {
+    let mut desc = ContextDesc::from_env();
+    desc.validation |= cli.validation;
+    if cli.device.is_some() {
+        desc.device_name = cli.device.clone();
+    }
+    desc
+}
+
+pub(crate) fn run(cli: Cli) -> Result<i32> {
+    match &cli.command {
+        Command::Shaders(args) => shaders::run(args),
+        Command::Devices => devices::run(),
+        Command::Render(args) => render::run(&cli, args),
+        Command::Reference(args) => reference::run(args),
+        Command::Sweep(args) => sweep::run(&cli, args),
+        Command::View(args) => view::run(&cli, args),
+        Command::Bench(args) => bench::run(&cli, args),
+        Command::GridSplat(args) => grid_splat::run(&cli, args),
+    }
+}
+
+/// The largest output side a command accepts (as a scene file's `output`: docs/limits.md).
+const MAX_OUTPUT_SIDE: u32 = 16384;
+
+/// `--width` / `--height` values: whole pixels, at least 1.
+fn output_side(text: &str) -> std::result::Result<u32, String> {
+    let v: u32 = text.trim().parse().map_err(|_| format!("{text:?} is not a whole number of pixels"))?;
+    if !(1..=MAX_OUTPUT_SIDE).contains(&v) {
+        return Err(format!("must be at least 1 and at most {MAX_OUTPUT_SIDE} (got {v})"));
+    }
+    Ok(v)
+}
+
+/// `sweep --filter` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum OnOff {
+    On,
+    Off,
+}
+
+/// `view --present-mode` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum PresentModeArg {
+    /// No tearing, paced by the display.
+    Fifo,
+    Mailbox,
+    Immediate,
+}
+
+/// `--caustic-estimator` / `--estimator` values.
+fn caustic_estimator(name: &str) -> std::result::Result<underlight::scene::CausticEstimator, String> {
+    use underlight::scene::CausticEstimator;
+    CausticEstimator::from_name(name).ok_or_else(|| {
+        let names: Vec<&str> = CausticEstimator::ALL.iter().map(|e| e.name()).collect();
+        format!("no caustic estimator {name:?}; there are {}", names.join(", "))
+    })
+}
+
+/// Creates the parent folder of each output path up front, so a bad path fails before any
+/// GPU work.
+/// Makes the outputs' folders and checks each output can be written there, before any
+/// rendering: a wrong path fails in a second, not after the frames, and leaves nothing behind.
+fn prepare_outputs<'a>(paths: impl IntoIterator<Item = &'a PathBuf>) -> Result<()> {
+    for path in paths {
+        if path.is_dir() {
+            bail!("output {} is a directory: give a file name", path.display());
+        }
+        let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("output {}: cannot create {}", path.display(), dir.display()))?;
+        let probe = dir.join(format!(".underlight-write-check-{}", std::process::id()));
+        std::fs::write(&probe, b"")
+            .with_context(|| format!("output {}: cannot write in {}", path.display(), dir.display()))?;
+        std::fs::remove_file(&probe).ok();
+    }
+    Ok(())
+}
+
+fn finish(ctx: Context) -> i32 {
+    let report = ctx.shutdown();
+    if report.is_clean() {
+        return 0;
+    }
+    eprint!("{report}");
+    eprintln!("error: Vulkan validation or leak report is not clean");
+    2
+}
+
+/// The exposure of the effect buffers' PNGs (`reference`, `render --hdr`): the compose
+/// pass's, which shows the surface irradiance on a white receiver at mid grey.
+fn effect_png_exposure(scene: &underlight::scene::Scene) -> f32 {
+    2.0 * std::f32::consts::PI / underlight::frame::uniforms::surface_irradiance(scene)
+}

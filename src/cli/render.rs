@@ -1,0 +1,179 @@
+//! `underlight render`: a scene rendered headless to a PNG (and HDR dumps), with per-pass GPU
+//! times and, on request, the photons' flux budget.
+
+use super::{caustic_estimator, context_desc, effect_png_exposure, finish, output_side, prepare_outputs, Cli};
+use anyhow::{bail, Context as _, Result};
+use std::path::PathBuf;
+use underlight::headless;
+use underlight::image_io;
+use underlight::vk::{vk, Context};
+
+#[derive(clap::Args)]
+pub(super) struct SceneArgs {
+    /// A built-in scene (tank, port, storage) or a path to a scene .toml file.
+    #[arg(long, default_value = "tank")]
+    scene: String,
+    /// Output PNG (tonemapped sRGB).
+    #[arg(long, default_value = "out/underlight.png")]
+    out: PathBuf,
+    /// Also write the HDR targets (scene colour, caustic irradiance, …) as PFM into this folder.
+    #[arg(long, value_name = "DIR")]
+    hdr: Option<PathBuf>,
+    /// Output size; defaults to the scene's.
+    #[arg(long, value_parser = output_side)]
+    width: Option<u32>,
+    #[arg(long, value_parser = output_side)]
+    height: Option<u32>,
+    /// Frames to render (timings are the median over them).
+    #[arg(long, default_value_t = 8)]
+    frames: u32,
+    /// Animation time of the first frame, seconds.
+    #[arg(long, default_value_t = 1.0)]
+    time: f32,
+    /// Print which passes the scene needs and why, then render.
+    #[arg(long)]
+    explain: bool,
+    /// Also render one frame recording every caustic photon (the paper's points, the same
+    /// photons) and print where their flux goes: landed, reflected, dropped by reason.
+    #[arg(long)]
+    flux_budget: bool,
+    /// Put the camera here instead of the scene's position, e.g. `0.3,1.5,0.2` (above the
+    /// water the surface reflects and refracts).
+    #[arg(long, value_name = "X,Y,Z", value_delimiter = ',', allow_hyphen_values = true)]
+    camera: Option<Vec<f32>>,
+    /// Point the camera at this point instead of the scene's look_at.
+    #[arg(long, value_name = "X,Y,Z", value_delimiter = ',', allow_hyphen_values = true)]
+    look_at: Option<Vec<f32>>,
+    /// Turn photons into irradiance with this estimator instead of the scene's: paper
+    /// (distance-sized points) or triangles (warped-cell triangles).
+    #[arg(long, value_name = "NAME", value_parser = caustic_estimator)]
+    caustic_estimator: Option<underlight::scene::CausticEstimator>,
+}
+
+pub(super) fn run(cli: &Cli, args: &SceneArgs) -> Result<i32> {
+    let mut scene = underlight::scene::load(&args.scene)?;
+    let point = |name: &str, v: &Option<Vec<f32>>| -> Result<Option<glam::Vec3>> {
+        match v.as_deref() {
+            None => Ok(None),
+            Some([x, y, z]) if [x, y, z].iter().all(|c| c.is_finite()) => Ok(Some(glam::Vec3::new(*x, *y, *z))),
+            Some(other) => bail!("--{name} takes three finite numbers X,Y,Z (got {other:?})"),
+        }
+    };
+    if let Some(p) = point("camera", &args.camera)? {
+        scene.camera.position = p;
+    }
+    if let Some(p) = point("look-at", &args.look_at)? {
+        scene.camera.look_at = p;
+    }
+    if let Some(estimator) = args.caustic_estimator {
+        scene.effects.caustic_estimator = estimator;
+    }
+    if scene.camera.position.distance(scene.camera.look_at) < 1e-6 {
+        bail!("--camera and --look-at give the same point: the camera needs a direction to look in");
+    }
+    let width = args.width.unwrap_or(scene.output[0]);
+    let height = args.height.unwrap_or(scene.output[1]);
+    prepare_outputs([&args.out])?;
+    if let Some(dir) = &args.hdr {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
+    let plan = underlight::frame::FramePlan::for_scene(&scene);
+    if args.explain {
+        println!("passes for scene {:?}:\n{plan}", scene.name);
+    }
+    let ctx = Context::new(&context_desc(cli))?;
+    println!("device: {}", ctx.device.info.describe());
+    let extent = vk::Extent2D { width, height };
+    let (timings, images) = {
+        let mut renderer = headless::SceneRenderer::new(&ctx.device, &scene, extent)?;
+        for note in &renderer.frame.clamped {
+            eprintln!("warning: {note}");
+        }
+        let e = renderer.frame.extents;
+        println!(
+            "scene {:?}: {width}×{height}; caustics {}² × {}² photons into {}×{}; light maps {}²",
+            scene.name,
+            scene.effects.caustic_grid,
+            scene.effects.caustic_subdivision,
+            e.caustic[0],
+            e.caustic[1],
+            e.light_map
+        );
+        renderer.render(args.frames.max(1), args.time, 1.0 / 60.0, true)?
+    };
+    let images = images.expect("read back requested");
+    let silent = images.silent_effects(&scene);
+    if args.explain && !silent.is_empty() {
+        println!("after the last frame:");
+    }
+    for note in &silent {
+        if args.explain {
+            println!("  {note}");
+        }
+        eprintln!("warning: {note}");
+    }
+    image_io::write_png(&args.out, images.width, images.height, &images.output)?;
+    println!("wrote {}", args.out.display());
+    if let Some(dir) = &args.hdr {
+        let mut dumps =
+            vec![("scene_color", &images.scene_color), ("albedo_transmittance", &images.albedo_transmittance)];
+        for (name, img) in [
+            ("caustics", &images.caustics),
+            ("caustics_filtered", &images.caustics_filtered),
+            ("godrays", &images.godrays),
+            ("godrays_filtered", &images.godrays_filtered),
+        ] {
+            if let Some(img) = img {
+                dumps.push((name, img));
+            }
+        }
+        for (name, img) in dumps {
+            let path = dir.join(format!("{name}.pfm"));
+            image_io::write_pfm(&path, img)?;
+            println!("wrote {}", path.display());
+        }
+        // The effect buffers also as PNGs at the exposure `reference` writes its own with, so
+        // the two sit side by side.
+        for (name, img, scale) in [
+            ("caustics", &images.caustics, 1.0 / std::f32::consts::PI),
+            ("caustics_filtered", &images.caustics_filtered, 1.0 / std::f32::consts::PI),
+            ("godrays", &images.godrays, 1.0),
+            ("godrays_filtered", &images.godrays_filtered, 1.0),
+        ] {
+            if let Some(img) = img {
+                let path = dir.join(format!("{name}.png"));
+                let exposure = effect_png_exposure(&scene) * scale;
+                image_io::write_png(&path, img.width, img.height, &image_io::tonemap_srgb8(img, exposure))?;
+                println!("wrote {}", path.display());
+            }
+        }
+    }
+    println!("\nmedian over {} frames:\n{}", timings.len(), headless::median_timings(&timings));
+    if args.flux_budget {
+        print_flux_budget(&ctx, &scene, extent, args.time)?;
+    }
+    Ok(finish(ctx))
+}
+
+/// `render --flux-budget`: one frame through the photon-recording geometry shader (the
+/// paper's points: recording is theirs, and the photons are the same for every estimator).
+fn print_flux_budget(ctx: &Context, scene: &underlight::scene::Scene, extent: vk::Extent2D, time: f32) -> Result<()> {
+    let mut recorded = scene.clone();
+    recorded.effects.caustic_estimator = underlight::scene::CausticEstimator::Paper;
+    if !recorded.effects.caustics || !ctx.device.has_pipeline_stores() {
+        bail!("--flux-budget needs caustics and a device with vertexPipelineStoresAndAtomics");
+    }
+    let options = underlight::frame::FrameOptions { record_photons: true, ..Default::default() };
+    let mut renderer = headless::SceneRenderer::with_options(&ctx.device, &recorded, extent, options)?;
+    let extents = renderer.frame.extents;
+    let (_, images) = renderer.render(1, time, 0.0, true)?;
+    drop(renderer);
+    let Some(records) = images.and_then(|i| i.photon_records) else {
+        bail!("--flux-budget: the caustics pass did not run, so no photon was recorded");
+    };
+    let mut budget = underlight::flux_budget::FluxBudget::from_records(&records);
+    let u = underlight::frame::uniforms::FrameUniforms::new(&recorded, recorded.bounds(), &extents, time);
+    budget.light_power = underlight::flux_budget::grid_power(&u);
+    println!("\nflux budget at t = {time} s:\n{budget}");
+    Ok(())
+}

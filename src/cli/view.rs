@@ -1,0 +1,96 @@
+//! `underlight view`: the method live in a window, optionally scripted.
+
+use super::{context_desc, output_side, prepare_outputs, Cli, PresentModeArg};
+use anyhow::{bail, Result};
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+pub(super) struct ViewArgs {
+    /// A built-in scene (tank, port, storage) or a path to a scene .toml file.
+    #[arg(long, default_value = "tank")]
+    scene: String,
+    /// Window size; defaults to the scene's output size.
+    #[arg(long, value_parser = output_side)]
+    width: Option<u32>,
+    #[arg(long, value_parser = output_side)]
+    height: Option<u32>,
+    /// fifo (default, no tearing), mailbox or immediate.
+    #[arg(long, value_enum, default_value_t = PresentModeArg::Fifo)]
+    present_mode: PresentModeArg,
+    /// Exit after this many frames.
+    #[arg(long)]
+    frames: Option<u32>,
+    /// With --frames: save the last presented frame to this PNG.
+    #[arg(long, requires = "frames")]
+    screenshot: Option<PathBuf>,
+    /// Steps to run, then exit: frames:N, resize:WxH, minimize, restore, toggle:caustics|godrays|filter,
+    /// water, amplitude:F, move:R/U/F, look:YAW/PITCH, preset:default|high, screenshot:PATH.
+    #[arg(long, conflicts_with = "frames")]
+    script: Option<String>,
+    /// Animation time at start, seconds.
+    #[arg(long, default_value_t = 0.0)]
+    time: f32,
+    /// Start with time paused (P toggles, N steps).
+    #[arg(long)]
+    paused: bool,
+    /// Print which passes the viewer creates for the scene and why (the camera moves, so the
+    /// passes for the water seen from above exist and run in the frames that need them).
+    #[arg(long)]
+    explain: bool,
+}
+
+pub(super) fn run(cli: &Cli, args: &ViewArgs) -> Result<i32> {
+    use underlight::viewer::{self, script, ViewerOptions};
+    use underlight::vk::swapchain::PresentMode;
+    let scene = underlight::scene::load(&args.scene)?;
+    if args.explain {
+        println!(
+            "passes for scene {:?} in the viewer:\n{}",
+            scene.name,
+            underlight::frame::FramePlan::new(&scene, true)
+        );
+    }
+    let present_mode = match args.present_mode {
+        PresentModeArg::Fifo => PresentMode::Fifo,
+        PresentModeArg::Mailbox => PresentMode::Mailbox,
+        PresentModeArg::Immediate => PresentMode::Immediate,
+    };
+    let size = match (args.width, args.height) {
+        (None, None) => None,
+        (w, h) => {
+            // Each given side was checked as it was parsed (`output_side`); the scene's are.
+            Some((w.unwrap_or(scene.output[0]), h.unwrap_or(scene.output[1])))
+        }
+    };
+    if args.frames == Some(0) {
+        bail!("--frames must be at least 1");
+    }
+    if let Some(path) = &args.screenshot {
+        prepare_outputs([path])?;
+    }
+    let script = match &args.script {
+        Some(text) => script::parse(text)?,
+        None => Vec::new(),
+    };
+    let report = viewer::run(ViewerOptions {
+        scene,
+        context: context_desc(cli),
+        present_mode,
+        size,
+        script,
+        frames: args.frames,
+        screenshot: args.screenshot.clone(),
+        time: args.time,
+        paused: args.paused,
+    })?;
+    println!("presented {} frames", report.frames_presented);
+    let per_pass: Vec<String> = report.pass_frames.iter().map(|(id, n)| format!("{id} {n}")).collect();
+    println!("frames per pass: {}", per_pass.join(", "));
+    if report.shutdown.is_clean() {
+        Ok(0)
+    } else {
+        eprint!("{}", report.shutdown);
+        eprintln!("error: Vulkan validation or leak report is not clean");
+        Ok(2)
+    }
+}
