@@ -8,9 +8,8 @@
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use std::time::Duration;
-use underlight::headless::{GridSplatRenderer, SceneRenderer};
-use underlight::passes::grid_splat::GridSplatSettings;
-use underlight::passes::PassId;
+use underlight::grid_splat::{DemoPass, GridSplatRenderer, GridSplatSettings};
+use underlight::headless::SceneRenderer;
 use underlight::vk::{vk, Context, ContextDesc};
 
 /// (label, target side, grid, subdivision, point size)
@@ -37,7 +36,7 @@ fn grid_splat(c: &mut Criterion) {
         group.bench_function(BenchmarkId::new(label, settings.photon_count()), |b| {
             b.iter_custom(|iters| {
                 let (timings, _) = renderer.render(iters as u32, 0.0, 1.0 / 60.0, false).unwrap();
-                let ms: f64 = timings.iter().filter_map(|t| t.get(PassId::GridSplat)).sum();
+                let ms: f64 = timings.iter().filter_map(|t| t.get(DemoPass::GridSplat)).sum();
                 assert!(ms > 0.0, "the pass reported no GPU time");
                 Duration::from_secs_f64(ms * 1e-3)
             })

@@ -5,65 +5,26 @@ use crate::frame::FrameRing;
 use crate::frame::PassTimings;
 use crate::frame::{Frame, FrameOptions};
 use crate::image_io::HdrImage;
-use crate::passes::grid_splat::{GridSplatPass, GridSplatSettings};
 use crate::passes::PassId;
 use crate::scene::Scene;
 use crate::vk::device::Device;
 use crate::vk::readback::Readback;
+use crate::vk::timing::TimedPass;
 use ash::vk;
 use std::sync::Arc;
 
 /// Median GPU milliseconds of each pass over several frames, in pass order.
-pub fn median_timings(frames: &[PassTimings]) -> PassTimings {
-    let mut ids: Vec<PassId> = frames.iter().flat_map(|t| t.passes.iter().map(|(id, _)| *id)).collect();
+pub fn median_timings<P: TimedPass>(frames: &[crate::vk::timing::PassTimings<P>]) -> crate::vk::timing::PassTimings<P> {
+    let mut ids: Vec<P> = frames.iter().flat_map(|t| t.passes.iter().map(|(id, _)| *id)).collect();
     ids.sort();
     ids.dedup();
-    let mut out = PassTimings::default();
+    let mut out = crate::vk::timing::PassTimings::default();
     for id in ids {
         let mut v: Vec<f64> = frames.iter().filter_map(|t| t.get(id)).collect();
         v.sort_by(f64::total_cmp);
         out.passes.push((id, v[v.len() / 2]));
     }
     out
-}
-
-/// The grid-splat pass with its frame ring and read-back, kept alive across renders so
-/// benchmarks time frames, not set-up.
-pub struct GridSplatRenderer {
-    pass: GridSplatPass,
-    readback: Readback,
-    ring: FrameRing,
-}
-
-impl GridSplatRenderer {
-    pub fn new(device: &Arc<Device>, extent: vk::Extent2D, settings: GridSplatSettings) -> Result<Self> {
-        let pass = GridSplatPass::new(device, extent, settings, vk::ImageLayout::TRANSFER_SRC_OPTIMAL)?;
-        let readback = Readback::new(device, &pass.target.image)?;
-        let ring = FrameRing::new(device)?;
-        Ok(Self { pass, readback, ring })
-    }
-
-    /// Renders `frames` frames (time `t0 + k·dt`), pipelined through the frames in flight,
-    /// and returns each frame's per-pass GPU times. With `read_back`, the last frame also
-    /// copies its target to the host, returned as an image.
-    pub fn render(
-        &mut self,
-        frames: u32,
-        t0: f32,
-        dt: f32,
-        read_back: bool,
-    ) -> Result<(Vec<PassTimings>, Option<HdrImage>)> {
-        let (pass, readback) = (&self.pass, &self.readback);
-        let timings = run_frames(&mut self.ring, frames, t0, dt, |slot, time, last| {
-            let cmd = slot.cmd;
-            slot.timer.pass(cmd, PassId::GridSplat, |cmd| pass.record(cmd, time));
-            if read_back && last {
-                slot.timer.pass(cmd, PassId::Readback, |cmd| readback.record(cmd, &pass.target.image));
-            }
-        })?;
-        let image = if read_back && frames > 0 { Some(self.readback.read()?) } else { None };
-        Ok((timings, image))
-    }
 }
 
 /// What a headless render of a scene reads back from its last frame.
@@ -232,13 +193,13 @@ impl SceneRenderer {
 /// records one into its slot (the bool: it is the last). Returns each frame's per-pass GPU
 /// times, in frame order. Headless measurement collects every frame's table, so this
 /// allocates per frame; the viewer's loop does not.
-fn run_frames(
-    ring: &mut FrameRing,
+pub(crate) fn run_frames<P: TimedPass>(
+    ring: &mut crate::vk::commands::FrameRing<P>,
     frames: u32,
     t0: f32,
     dt: f32,
-    mut record: impl FnMut(&mut crate::frame::FrameSlot, f32, bool),
-) -> Result<Vec<PassTimings>> {
+    mut record: impl FnMut(&mut crate::vk::commands::FrameSlot<P>, f32, bool),
+) -> Result<Vec<crate::vk::timing::PassTimings<P>>> {
     let mut timings = Vec::with_capacity(frames as usize);
     for f in 0..frames {
         let slot = ring.begin()?;
@@ -262,18 +223,4 @@ fn effect_images(frame: &Frame) -> [Option<&crate::vk::image::Image>; 4] {
         frame.godrays.as_ref().map(|g| &g.target.image),
         frame.godray_filter.as_ref().map(|f| &f.output.image),
     ]
-}
-
-/// Renders `frames` frames of the grid-splat pass and reads back the last.
-pub fn render_grid_splat(
-    device: &Arc<Device>,
-    extent: vk::Extent2D,
-    settings: GridSplatSettings,
-    frames: u32,
-    t0: f32,
-    dt: f32,
-) -> Result<(HdrImage, Vec<PassTimings>)> {
-    let mut renderer = GridSplatRenderer::new(device, extent, settings)?;
-    let (timings, image) = renderer.render(frames.max(1), t0, dt, true)?;
-    Ok((image.expect("read back requested"), timings))
 }

@@ -7,6 +7,7 @@
 //! - [`shader_abi`]: the interface with the shaders (parameter block, binding numbers).
 //! - [`shader_math`]: the Rust twin of the shared GLSL math.
 //! - [`headless`], [`image_io`]: off-screen rendering and its files.
+//! - [`grid_splat`]: the foundation's demo, outside the method's passes.
 //! - [`reference`], [`metrics`]: the CPU reference and the GPU frame's error against it.
 #![warn(unsafe_op_in_unsafe_fn)]
 // `!(x > 0.0)` is how this code rejects NaN together with out-of-range values (a NaN fails
@@ -18,6 +19,7 @@ pub mod bench;
 pub mod error;
 pub mod flux_budget;
 pub mod frame;
+pub mod grid_splat;
 pub mod headless;
 pub mod image_io;
 pub mod memory;

@@ -8,10 +8,8 @@ mod common;
 use common::{assert_clean_shutdown, validated_context};
 use glam::{UVec2, Vec2};
 use std::time::Instant;
-use underlight::headless::{render_grid_splat, GridSplatRenderer};
+use underlight::grid_splat::{render_grid_splat, DemoPass, GridSplatRenderer, GridSplatSettings};
 use underlight::image_io::HdrImage;
-use underlight::passes::grid_splat::GridSplatSettings;
-use underlight::passes::PassId;
 use underlight::shader_math::photon_grid_uv;
 use underlight::vk::vk;
 use underlight::Error;
@@ -85,9 +83,9 @@ fn check_exact(settings: GridSplatSettings, spacing: u32) {
     // Every frame was timed, each pass with a positive GPU time.
     assert_eq!(timings.len(), 3);
     for t in &timings {
-        assert!(t.get(PassId::GridSplat).unwrap() > 0.0, "{t}");
+        assert!(t.get(DemoPass::GridSplat).unwrap() > 0.0, "{t}");
     }
-    assert!(timings.last().unwrap().get(PassId::Readback).unwrap() > 0.0);
+    assert!(timings.last().unwrap().get(DemoPass::Readback).unwrap() > 0.0);
     assert_clean_shutdown(ctx);
 }
 

@@ -100,9 +100,7 @@ fn flat_water_lights_the_floor_with_the_analytic_irradiance() {
     // Every pass of the method ran and was timed, except the two for the water seen from
     // above: the camera is under the water.
     for t in &timings {
-        for pass in
-            PassId::ALL.into_iter().filter(|p| !matches!(p, PassId::GridSplat | PassId::Readback | PassId::Present))
-        {
+        for pass in PassId::ALL.into_iter().filter(|p| !matches!(p, PassId::Readback | PassId::Present)) {
             let from_above = matches!(pass, PassId::Refraction | PassId::Reflection);
             assert_eq!(t.get(pass).is_some_and(|ms| ms > 0.0), !from_above, "{pass} in\n{t}");
         }

@@ -4,9 +4,9 @@
 use super::{context_desc, finish, output_side, prepare_outputs, Cli};
 use anyhow::Result;
 use std::path::PathBuf;
+use underlight::grid_splat::GridSplatSettings;
 use underlight::headless;
 use underlight::image_io;
-use underlight::passes::grid_splat::GridSplatSettings;
 use underlight::vk::{vk, Context};
 
 #[derive(clap::Args)]
@@ -70,7 +70,7 @@ pub(super) fn run(cli: &Cli, args: &RenderArgs) -> Result<i32> {
         args.frames
     );
     let (image, frame_timings) =
-        headless::render_grid_splat(&ctx.device, extent, settings, args.frames, args.time, 1.0 / 60.0)?;
+        underlight::grid_splat::render_grid_splat(&ctx.device, extent, settings, args.frames, args.time, 1.0 / 60.0)?;
     let rgba = image_io::tonemap_srgb8(&image, args.exposure);
     image_io::write_png(&args.out, image.width, image.height, &rgba)?;
     println!("wrote {}", args.out.display());

@@ -638,7 +638,7 @@ impl Frame {
                 }
             }
             PassId::Compose => self.compose.record(cmd, i),
-            PassId::GridSplat | PassId::Readback | PassId::Present => {
+            PassId::Readback | PassId::Present => {
                 unreachable!("{id} is not a pass of the method's frame")
             }
         }

@@ -5,7 +5,6 @@ pub mod caustics;
 pub mod compose;
 pub mod filter;
 pub mod godrays;
-pub mod grid_splat;
 pub mod mesh;
 pub mod photon_accumulation;
 pub mod reflection;
@@ -100,8 +99,6 @@ pub enum PassId {
     Godrays,
     Filter,
     Compose,
-    /// The foundation's proof-of-stack pass: a photon grid subdivided by a geometry shader.
-    GridSplat,
     /// Copy of a target into host memory (headless mode, screenshots).
     Readback,
     /// Blit of the output into the window's swapchain image (viewer only).
@@ -109,7 +106,7 @@ pub enum PassId {
 }
 
 impl PassId {
-    pub const ALL: [PassId; 11] = [
+    pub const ALL: [PassId; 10] = [
         PassId::Shadow,
         PassId::Refraction,
         PassId::Reflection,
@@ -118,7 +115,6 @@ impl PassId {
         PassId::Godrays,
         PassId::Filter,
         PassId::Compose,
-        PassId::GridSplat,
         PassId::Readback,
         PassId::Present,
     ];
@@ -139,7 +135,6 @@ impl PassId {
             PassId::Godrays => c"godrays",
             PassId::Filter => c"filter",
             PassId::Compose => c"compose",
-            PassId::GridSplat => c"grid_splat",
             PassId::Readback => c"readback",
             PassId::Present => c"present",
         }

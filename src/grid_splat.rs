@@ -1,4 +1,6 @@
-//! Grid splat: the foundation's proof that the whole stack works end to end.
+//! Grid splat: the foundation's proof that the whole stack works end to end (`underlight
+//! grid-splat`), kept as a demo outside the method's passes: it has its own timed passes
+//! ([`DemoPass`]), frame ring and read-back, and shares only the backend with the method.
 //!
 //! A coarse grid of points is drawn with no vertex buffer; a geometry shader subdivides each
 //! into SUBDIVISION×SUBDIVISION photons (a specialization constant, so the loop unrolls) and
@@ -7,12 +9,17 @@
 //! blending, without the water and scene intersection.
 
 use crate::error::{Error, Result};
+use crate::image_io::HdrImage;
 use crate::shader_math::MAX_SUBDIVISION;
 use crate::shaders;
+use crate::vk::commands::FrameRing;
 use crate::vk::device::Device;
 use crate::vk::pipeline::{Blend, GraphicsPipelineDesc, Pipeline};
+use crate::vk::readback::Readback;
 use crate::vk::render_pass::ColorTarget;
+use crate::vk::timing::{PassTimings, TimedPass};
 use ash::vk;
+use std::ffi::CStr;
 use std::sync::Arc;
 
 /// Format of the accumulation target: half floats add photon energies without clamping.
@@ -139,4 +146,75 @@ impl GridSplatPass {
         unsafe { self.device.raw.cmd_draw(cmd, s.grid * s.grid, 1, 0, 0) };
         self.target.render_pass.end(cmd);
     }
+}
+
+/// The demo's timed passes (the method's are `passes::PassId`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum DemoPass {
+    /// The photon grid subdivided by the geometry shader and splatted.
+    GridSplat,
+    /// Copy of the target into host memory.
+    Readback,
+}
+
+impl TimedPass for DemoPass {
+    fn label(self) -> &'static CStr {
+        match self {
+            DemoPass::GridSplat => c"grid_splat",
+            DemoPass::Readback => c"readback",
+        }
+    }
+}
+
+/// The grid-splat pass with its frame ring and read-back, kept alive across renders so
+/// benchmarks time frames, not set-up.
+pub struct GridSplatRenderer {
+    pass: GridSplatPass,
+    readback: Readback,
+    ring: FrameRing<DemoPass>,
+}
+
+impl GridSplatRenderer {
+    pub fn new(device: &Arc<Device>, extent: vk::Extent2D, settings: GridSplatSettings) -> Result<Self> {
+        let pass = GridSplatPass::new(device, extent, settings, vk::ImageLayout::TRANSFER_SRC_OPTIMAL)?;
+        let readback = Readback::new(device, &pass.target.image)?;
+        let ring = FrameRing::new(device)?;
+        Ok(Self { pass, readback, ring })
+    }
+
+    /// Renders `frames` frames (time `t0 + k·dt`), pipelined through the frames in flight,
+    /// and returns each frame's per-pass GPU times. With `read_back`, the last frame also
+    /// copies its target to the host, returned as an image.
+    pub fn render(
+        &mut self,
+        frames: u32,
+        t0: f32,
+        dt: f32,
+        read_back: bool,
+    ) -> Result<(Vec<PassTimings<DemoPass>>, Option<HdrImage>)> {
+        let (pass, readback) = (&self.pass, &self.readback);
+        let timings = crate::headless::run_frames(&mut self.ring, frames, t0, dt, |slot, time, last| {
+            let cmd = slot.cmd;
+            slot.timer.pass(cmd, DemoPass::GridSplat, |cmd| pass.record(cmd, time));
+            if read_back && last {
+                slot.timer.pass(cmd, DemoPass::Readback, |cmd| readback.record(cmd, &pass.target.image));
+            }
+        })?;
+        let image = if read_back && frames > 0 { Some(self.readback.read()?) } else { None };
+        Ok((timings, image))
+    }
+}
+
+/// Renders `frames` frames of the grid-splat pass and reads back the last.
+pub fn render_grid_splat(
+    device: &Arc<Device>,
+    extent: vk::Extent2D,
+    settings: GridSplatSettings,
+    frames: u32,
+    t0: f32,
+    dt: f32,
+) -> Result<(HdrImage, Vec<PassTimings<DemoPass>>)> {
+    let mut renderer = GridSplatRenderer::new(device, extent, settings)?;
+    let (timings, image) = renderer.render(frames.max(1), t0, dt, true)?;
+    Ok((image.expect("read back requested"), timings))
 }
