@@ -1,0 +1,108 @@
+//! What a sweep runs: the axes of settings it varies (every combination is one setting),
+//! checked against the scene file's limits, and the sweep's scene, output, times and
+//! reference settings.
+
+use crate::reference::ReferenceSettings;
+use crate::scene::{CausticEstimator, Scene};
+use anyhow::{bail, Result};
+use std::path::PathBuf;
+
+/// The settings a sweep varies; every combination is one row. Empty: the scene's value.
+#[derive(Clone, Debug, Default)]
+pub struct SweepAxes {
+    pub grid: Vec<u32>,
+    pub subdivision: Vec<u32>,
+    pub iterations: Vec<u32>,
+    pub target_scale: Vec<f32>,
+    pub point_size: Vec<f32>,
+    pub line_width: Vec<f32>,
+    pub filter: Vec<bool>,
+    pub estimator: Vec<CausticEstimator>,
+}
+
+impl SweepAxes {
+    /// Every value within what a scene file accepts (`docs/limits.md`), checked before any
+    /// GPU work; the error names the option and the range.
+    pub fn validate(&self) -> Result<()> {
+        let ints: [(&str, &Vec<u32>, u32, u32); 3] = [
+            ("--grid", &self.grid, 1, 4096),
+            ("--subdiv", &self.subdivision, 1, crate::shader_math::MAX_SUBDIVISION),
+            ("--iterations", &self.iterations, 1, 64),
+        ];
+        for (name, values, lo, hi) in ints {
+            if let Some(v) = values.iter().find(|v| !(lo..=hi).contains(*v)) {
+                bail!("{name} {v} is out of range {lo}..={hi}");
+            }
+        }
+        let floats: [(&str, &Vec<f32>, f32, f32); 3] = [
+            ("--target", &self.target_scale, 0.0, 4.0),
+            ("--point-size", &self.point_size, 0.0, f32::INFINITY),
+            ("--line-width", &self.line_width, 0.0, f32::INFINITY),
+        ];
+        for (name, values, lo, hi) in floats {
+            if let Some(v) = values.iter().find(|v| !(**v > lo && **v <= hi)) {
+                bail!("{name} {v} is out of range: must be > {lo} and ≤ {hi}");
+            }
+        }
+        Ok(())
+    }
+
+    /// Every combination, applied to `base`.
+    pub fn scenes(&self, base: &Scene) -> Vec<Scene> {
+        let e = &base.effects;
+        let or = |v: &Vec<u32>, d: u32| if v.is_empty() { vec![d] } else { v.clone() };
+        let orf = |v: &Vec<f32>, d: f32| if v.is_empty() { vec![d] } else { v.clone() };
+        let filters = if self.filter.is_empty() { vec![e.filter] } else { self.filter.clone() };
+        let estimators = if self.estimator.is_empty() { vec![e.caustic_estimator] } else { self.estimator.clone() };
+        let mut out = Vec::new();
+        for &grid in &or(&self.grid, e.caustic_grid) {
+            for &sub in &or(&self.subdivision, e.caustic_subdivision) {
+                for &iterations in &or(&self.iterations, e.iterations) {
+                    for &scale in &orf(&self.target_scale, e.caustic_target_scale) {
+                        for &size in &orf(&self.point_size, e.point_size_max) {
+                            for &width in &orf(&self.line_width, e.line_width) {
+                                for (&filter, &estimator) in
+                                    filters.iter().flat_map(|f| estimators.iter().map(move |e| (f, e)))
+                                {
+                                    let mut s = base.clone();
+                                    let fx = &mut s.effects;
+                                    fx.caustic_grid = grid;
+                                    fx.caustic_subdivision = sub;
+                                    fx.iterations = iterations;
+                                    fx.caustic_target_scale = scale;
+                                    fx.point_size_max = size;
+                                    fx.point_size_min = fx.point_size_min.min(size);
+                                    fx.line_width = width;
+                                    fx.filter = filter;
+                                    fx.caustic_estimator = estimator;
+                                    // The triangle estimator's subdivision bound (its
+                                    // geometry shader's output limit) skips larger ones.
+                                    if estimator == CausticEstimator::Triangles
+                                        && sub > crate::shader_math::TRIANGLE_MAX_SUBDIVISION
+                                    {
+                                        continue;
+                                    }
+                                    out.push(s);
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        out
+    }
+}
+
+pub struct SweepSpec<'a> {
+    pub scene: &'a Scene,
+    pub output: [u32; 2],
+    pub axes: SweepAxes,
+    pub time: f32,
+    /// Time step for the flicker figure, s.
+    pub step: f32,
+    pub frames: u32,
+    pub warmup: u32,
+    pub reference: ReferenceSettings,
+    pub cache_dir: PathBuf,
+}

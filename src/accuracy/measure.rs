@@ -1,0 +1,134 @@
+//! Running a sweep: each setting's GPU time and its buffers against the reference's, as
+//! error figures (relative RMSE, flux error, FLIP of the composed image, frame change).
+
+use super::configs::SweepSpec;
+use super::reference_cache::cached_reference;
+use super::report::mark_pareto;
+use crate::frame::uniforms::FrameUniforms;
+use crate::frame::FrameOptions;
+use crate::headless::{median_timings, SceneRenderer};
+use crate::image_io::HdrImage;
+use crate::metrics::{buffer_error, compose_srgb8, flip, frame_change, BufferError};
+use crate::passes::PassId;
+use crate::vk::device::Device;
+use crate::vk::vk;
+use anyhow::Result;
+use std::sync::Arc;
+
+/// One setting's figures.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SweepRow {
+    pub caustic_grid: u32,
+    pub caustic_subdivision: u32,
+    pub caustic_photons: u64,
+    pub iterations: u32,
+    pub caustic_target: [u32; 2],
+    pub point_size_max: f32,
+    pub line_width: f32,
+    pub filter: bool,
+    /// `CausticEstimator::name`.
+    pub estimator: &'static str,
+    /// Median GPU ms of the passes the settings change: shadow, caustics, godrays, filter.
+    pub effect_ms: f64,
+    /// Median GPU ms of the whole frame (all passes).
+    pub frame_ms: f64,
+    pub caustics: Option<BufferError>,
+    pub godrays: Option<BufferError>,
+    /// Mean FLIP of the final image composed with the GPU's buffers against the one composed
+    /// with the reference's.
+    pub flip: f64,
+    /// Frame-to-frame change of the caustic buffer over one time step: GPU and reference.
+    pub caustic_change_gpu: f64,
+    pub caustic_change_reference: f64,
+    /// On the Pareto front of caustic relative RMSE against effect_ms.
+    pub pareto: bool,
+}
+
+/// The buffers compose reads: the filtered ones where the frame filters.
+fn shown<'a>(filtered: &'a Option<HdrImage>, raw: &'a Option<HdrImage>) -> Option<&'a HdrImage> {
+    filtered.as_ref().or(raw.as_ref())
+}
+
+/// Runs every setting of the sweep: GPU time (median of `frames`), the buffers at `time`
+/// and `time + step` against the reference at both.
+pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>> {
+    let scenes = spec.axes.scenes(spec.scene);
+    let out = vk::Extent2D { width: spec.output[0], height: spec.output[1] };
+    let mut rows = Vec::with_capacity(scenes.len());
+    for (k, scene) in scenes.iter().enumerate() {
+        let e = &scene.effects;
+        eprintln!(
+            "setting {}/{}: {} estimator, grid {}² × {}², {} iterations, target ×{}, points ≤ {} px, lines {} px, filter {}",
+            k + 1,
+            scenes.len(),
+            e.caustic_estimator.name(),
+            e.caustic_grid,
+            e.caustic_subdivision,
+            e.iterations,
+            e.caustic_target_scale,
+            e.point_size_max,
+            e.line_width,
+            if e.filter { "on" } else { "off" }
+        );
+        let mut renderer = SceneRenderer::with_options(device, scene, out, FrameOptions::default())?;
+        let extents = renderer.frame.extents;
+        renderer.render(spec.warmup, spec.time, 0.0, false)?;
+        let (timings, images) = renderer.render(spec.frames.max(1), spec.time, 0.0, true)?;
+        let (_, next) = renderer.render(1, spec.time + spec.step, 0.0, true)?;
+        drop(renderer);
+        let (images, next) = (images.expect("read back"), next.expect("read back"));
+        let median = median_timings(&timings);
+        let ms = |ids: &[PassId]| ids.iter().filter_map(|id| median.get(*id)).sum::<f64>();
+        let effect_ms = ms(&[PassId::Shadow, PassId::Caustics, PassId::Godrays, PassId::Filter]);
+        let frame_ms =
+            ms(&[PassId::Shadow, PassId::Scene, PassId::Caustics, PassId::Godrays, PassId::Filter, PassId::Compose]);
+
+        let reference = cached_reference(scene, spec.time, &extents, &spec.reference, &spec.cache_dir)?;
+        let reference_next =
+            cached_reference(scene, spec.time + spec.step, &extents, &spec.reference, &spec.cache_dir)?;
+        let gpu_c = shown(&images.caustics_filtered, &images.caustics);
+        let gpu_g = shown(&images.godrays_filtered, &images.godrays);
+        let error = |gpu: Option<&HdrImage>, r: &Option<HdrImage>| -> Result<Option<BufferError>> {
+            match (gpu, r) {
+                (Some(g), Some(r)) => buffer_error(g, r).map(Some),
+                _ => Ok(None),
+            }
+        };
+        let uniforms = FrameUniforms::new(scene, scene.bounds(), &extents, spec.time);
+        let exposure = uniforms.exposure;
+        let composed = |c: Option<&HdrImage>, g: Option<&HdrImage>| {
+            compose_srgb8(&images.scene_color, &images.albedo_transmittance, c, g, exposure)
+        };
+        let flip = flip(
+            &composed(reference.caustics.as_ref(), reference.godrays.as_ref()),
+            &composed(gpu_c, gpu_g),
+            images.width,
+            images.height,
+        )?;
+        let change = |a: Option<&HdrImage>, b: Option<&HdrImage>| match (a, b) {
+            (Some(a), Some(b)) => frame_change(a, b),
+            _ => Ok(0.0),
+        };
+        rows.push(SweepRow {
+            caustic_grid: e.caustic_grid,
+            caustic_subdivision: e.caustic_subdivision,
+            caustic_photons: ((e.caustic_grid * e.caustic_subdivision) as u64).pow(2),
+            iterations: e.iterations,
+            caustic_target: extents.caustic,
+            point_size_max: e.point_size_max,
+            line_width: e.line_width,
+            filter: e.filter,
+            estimator: e.caustic_estimator.name(),
+            effect_ms,
+            frame_ms,
+            caustics: error(gpu_c, &reference.caustics)?,
+            godrays: error(gpu_g, &reference.godrays)?,
+            flip,
+            caustic_change_gpu: change(gpu_c, shown(&next.caustics_filtered, &next.caustics))?,
+            caustic_change_reference: change(reference.caustics.as_ref(), reference_next.caustics.as_ref())?,
+            pareto: false,
+        });
+    }
+    mark_pareto(&mut rows);
+    Ok(rows)
+}

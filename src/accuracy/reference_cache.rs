@@ -1,0 +1,122 @@
+//! The reference buffers a sweep measures against, cached on disk by scene and settings
+//! (`underlight reference`), and the progress bar shown while one is traced.
+
+use crate::frame::uniforms::FrameExtents;
+use crate::image_io::{read_pfm, write_pfm};
+use crate::passes::PassId;
+use crate::reference::{ReferenceImages, ReferenceSettings};
+use crate::scene::Scene;
+use anyhow::{Context as _, Result};
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+/// FNV-1a over bytes: a cache key stable across runs and toolchains (std's hasher is not).
+fn fnv1a(bytes: &[u8], mut h: u64) -> u64 {
+    for b in bytes {
+        h ^= *b as u64;
+        h = h.wrapping_mul(0x100_0000_01b3);
+    }
+    h
+}
+
+/// What the reference depends on: geometry, camera, light, water, medium, which effects
+/// exist, the target sizes, the time and the reference's own settings. Not the method's
+/// settings (grids, iterations, point sizes, filter): a sweep over those reuses one reference.
+fn reference_key(scene: &Scene, extents: &FrameExtents, time: f32, settings: &ReferenceSettings) -> String {
+    let mut h = 0xcbf2_9ce4_8422_2325u64;
+    let e = &scene.effects;
+    let text = format!(
+        "{:?}|{:?}|{:?}|{:?}|{}|{}|{:?}|{:?}|{}|{}|{}",
+        scene.camera,
+        scene.light,
+        scene.water,
+        scene.medium,
+        e.caustics,
+        e.godrays,
+        extents.caustic,
+        extents.godray,
+        time.to_bits(),
+        settings.caustic_photons,
+        settings.godray_beams
+    );
+    h = fnv1a(text.as_bytes(), h);
+    h = fnv1a(&settings.seed.to_le_bytes(), h);
+    for m in &scene.meshes {
+        h = fnv1a(bytemuck::cast_slice(&m.positions), h);
+        h = fnv1a(bytemuck::cast_slice(&m.indices), h);
+    }
+    format!("{}-{h:016x}", scene.name.replace(|c: char| !c.is_ascii_alphanumeric(), "_"))
+}
+
+/// The default cache folder: `$XDG_CACHE_HOME/underlight/reference`, else
+/// `~/.cache/underlight/reference`, else `target/underlight-reference`.
+pub fn default_cache_dir() -> PathBuf {
+    let base = std::env::var_os("XDG_CACHE_HOME")
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))
+        .unwrap_or_else(|| PathBuf::from("target"));
+    base.join("underlight").join("reference")
+}
+
+/// A progress bar on stderr: `label [#####.....]  45 %`, redrawn at most every 1 %.
+pub struct Progress {
+    label: String,
+    last: std::sync::atomic::AtomicU32,
+}
+
+impl Progress {
+    pub fn new(label: impl Into<String>) -> Self {
+        Self { label: label.into(), last: std::sync::atomic::AtomicU32::new(u32::MAX) }
+    }
+
+    pub fn update(&self, fraction: f64) {
+        use std::io::IsTerminal as _;
+        let percent = (fraction.clamp(0.0, 1.0) * 100.0) as u32;
+        // Into a log (not a terminal) every 25 %, so redraws do not flood it.
+        let step = if std::io::stderr().is_terminal() { 1 } else { 25 };
+        let percent = percent / step * step;
+        if self.last.swap(percent, std::sync::atomic::Ordering::Relaxed) == percent {
+            return;
+        }
+        let filled = (percent / 4) as usize;
+        let bar = format!("{} [{}{}] {percent:>3} %", self.label, "#".repeat(filled), ".".repeat(25 - filled));
+        if step == 1 {
+            eprint!("\r{bar}{}", if percent == 100 { "\n" } else { "" });
+            std::io::stderr().flush().ok();
+        } else {
+            eprintln!("{bar}");
+        }
+    }
+}
+
+/// The reference buffers for `scene` at `time` and `extents`: read from `cache_dir` when a
+/// run with the same inputs wrote them, otherwise traced (with a progress bar) and stored.
+pub fn cached_reference(
+    scene: &Scene,
+    time: f32,
+    extents: &FrameExtents,
+    settings: &ReferenceSettings,
+    cache_dir: &Path,
+) -> Result<ReferenceImages> {
+    let dir = cache_dir.join(reference_key(scene, extents, time, settings));
+    let (caustics, godrays) = (dir.join("caustics.pfm"), dir.join("godrays.pfm"));
+    let want = |on: bool, p: &Path| !on || p.exists();
+    let plan = crate::frame::FramePlan::for_scene(scene);
+    let (has_c, has_g) = (plan.runs(PassId::Caustics), plan.runs(PassId::Godrays));
+    if dir.join("done").exists() && want(has_c, &caustics) && want(has_g, &godrays) {
+        let load = |on: bool, p: &Path| if on { read_pfm(p).map(Some) } else { Ok(None) };
+        return Ok(ReferenceImages { caustics: load(has_c, &caustics)?, godrays: load(has_g, &godrays)? });
+    }
+    let progress = Progress::new(format!("reference {} t={time}", scene.name));
+    let images = crate::reference::render(scene, time, extents, settings, &|f| progress.update(f))?;
+    progress.update(1.0);
+    std::fs::create_dir_all(&dir).with_context(|| format!("creating the reference cache {}", dir.display()))?;
+    if let Some(c) = &images.caustics {
+        write_pfm(&caustics, c)?;
+    }
+    if let Some(g) = &images.godrays {
+        write_pfm(&godrays, g)?;
+    }
+    std::fs::write(dir.join("done"), b"")?;
+    Ok(images)
+}

@@ -1,0 +1,172 @@
+//! A sweep's results: the Pareto front of error against GPU time, the CSV, the Markdown
+//! table and the plot.
+
+use super::measure::SweepRow;
+use crate::metrics::BufferError;
+use anyhow::{bail, Result};
+use std::path::Path;
+
+/// The error a row is ranked by: caustic relative RMSE, else godray's.
+pub fn ranked_error(row: &SweepRow) -> f64 {
+    row.caustics.or(row.godrays).map(|e| e.relative_rmse).unwrap_or(f64::NAN)
+}
+
+/// A row is on the front when no other row is at least as fast and at least as accurate,
+/// and strictly better in one.
+pub fn mark_pareto(rows: &mut [SweepRow]) {
+    let points: Vec<(f64, f64)> = rows.iter().map(|r| (r.effect_ms, ranked_error(r))).collect();
+    for (i, row) in rows.iter_mut().enumerate() {
+        let (t, e) = points[i];
+        row.pareto = e.is_finite()
+            && !points.iter().enumerate().any(|(j, &(t2, e2))| j != i && t2 <= t && e2 <= e && (t2 < t || e2 < e));
+    }
+}
+
+pub fn csv(rows: &[SweepRow]) -> String {
+    let mut s = String::from(
+        "estimator,caustic_grid,caustic_subdivision,caustic_photons,iterations,caustic_target_w,caustic_target_h,point_size_max,\
+         line_width,filter,effect_ms,frame_ms,caustic_rel_rmse,caustic_mean_rel_error,caustic_flux_error,\
+         godray_rel_rmse,godray_mean_rel_error,godray_flux_error,flip,caustic_change_gpu,caustic_change_reference,pareto\n",
+    );
+    let opt = |e: Option<BufferError>| match e {
+        Some(e) => format!("{:.5},{:.5},{:.5}", e.relative_rmse, e.mean_relative_error, e.flux_error),
+        None => ",,".into(),
+    };
+    for r in rows {
+        s += &format!(
+            "{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{},{},{:.5},{:.5},{:.5},{}\n",
+            r.estimator,
+            r.caustic_grid,
+            r.caustic_subdivision,
+            r.caustic_photons,
+            r.iterations,
+            r.caustic_target[0],
+            r.caustic_target[1],
+            r.point_size_max,
+            r.line_width,
+            r.filter,
+            r.effect_ms,
+            r.frame_ms,
+            opt(r.caustics),
+            opt(r.godrays),
+            r.flip,
+            r.caustic_change_gpu,
+            r.caustic_change_reference,
+            r.pareto
+        );
+    }
+    s
+}
+
+/// A table for the terminal and docs (Markdown).
+pub fn table(rows: &[SweepRow]) -> String {
+    let mut s = String::from(
+        "| estimator | photons | iter | target | points ≤ | filter | effect ms | caustic rel RMSE | flux err | godray rel RMSE | FLIP | change GPU / ref | front |\n\
+         | --- | ---: | ---: | --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | --- | --- |\n",
+    );
+    for r in rows {
+        let c = r.caustics.map(|e| (format!("{:.3}", e.relative_rmse), format!("{:+.1} %", 100.0 * e.flux_error)));
+        let (c_rmse, c_flux) = c.unwrap_or(("–".into(), "–".into()));
+        s += &format!(
+            "| {} | {}² × {}² | {} | {}×{} | {} | {} | {:.1} | {} | {} | {} | {:.3} | {:.3} / {:.3} | {} |\n",
+            r.estimator,
+            r.caustic_grid,
+            r.caustic_subdivision,
+            r.iterations,
+            r.caustic_target[0],
+            r.caustic_target[1],
+            r.point_size_max,
+            if r.filter { "on" } else { "off" },
+            r.effect_ms,
+            c_rmse,
+            c_flux,
+            r.godrays.map(|e| format!("{:.3}", e.relative_rmse)).unwrap_or("–".into()),
+            r.flip,
+            r.caustic_change_gpu,
+            r.caustic_change_reference,
+            if r.pareto { "●" } else { "" }
+        );
+    }
+    s
+}
+
+/// Error against GPU time as a PNG: every setting a dot, the Pareto front joined by a line.
+/// Text needs a TrueType font; DejaVu Sans is looked for where Debian and Ubuntu put it.
+pub fn plot(rows: &[SweepRow], title: &str, path: &Path) -> Result<()> {
+    use plotters::prelude::*;
+    register_font()?;
+    let points: Vec<(f64, f64, bool, bool)> =
+        rows.iter().map(|r| (r.effect_ms, ranked_error(r), r.pareto, r.filter)).filter(|p| p.1.is_finite()).collect();
+    if points.is_empty() {
+        bail!("nothing to plot: no setting has a measurable error");
+    }
+    let (t_max, e_max) = points.iter().fold((0.0f64, 0.0f64), |(t, e), p| (t.max(p.0), e.max(p.1)));
+    let root = BitMapBackend::new(path, (900, 600)).into_drawing_area();
+    let draw = |e: &dyn std::fmt::Display| anyhow::anyhow!("plot {}: {e}", path.display());
+    root.fill(&WHITE).map_err(|e| draw(&e))?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 22))
+        .margin(16)
+        .x_label_area_size(48)
+        .y_label_area_size(64)
+        .build_cartesian_2d(0.0..t_max * 1.08, 0.0..e_max * 1.1)
+        .map_err(|e| draw(&e))?;
+    chart
+        .configure_mesh()
+        .x_desc("GPU ms per frame (shadow + caustics + godrays + filter)")
+        .y_desc("caustic relative RMSE vs reference")
+        .label_style(("sans-serif", 15))
+        .draw()
+        .map_err(|e| draw(&e))?;
+    let mut front: Vec<(f64, f64)> = points.iter().filter(|p| p.2).map(|p| (p.0, p.1)).collect();
+    front.sort_by(|a, b| a.0.total_cmp(&b.0));
+    chart
+        .draw_series(LineSeries::new(front.clone(), RED.stroke_width(2)))
+        .map_err(|e| draw(&e))?
+        .label("Pareto front")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], RED.stroke_width(2)));
+    chart
+        .draw_series(points.iter().filter(|p| !p.3).map(|p| Circle::new((p.0, p.1), 5, BLUE.filled())))
+        .map_err(|e| draw(&e))?
+        .label("filter off")
+        .legend(|(x, y)| Circle::new((x + 10, y), 5, BLUE.filled()));
+    chart
+        .draw_series(points.iter().filter(|p| p.3).map(|p| TriangleMarker::new((p.0, p.1), 7, GREEN.filled())))
+        .map_err(|e| draw(&e))?
+        .label("filter on")
+        .legend(|(x, y)| TriangleMarker::new((x + 10, y), 7, GREEN.filled()));
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 15))
+        .draw()
+        .map_err(|e| draw(&e))?;
+    root.present().map_err(|e| draw(&e))?;
+    Ok(())
+}
+
+fn register_font() -> Result<()> {
+    static REGISTERED: std::sync::OnceLock<std::result::Result<(), String>> = std::sync::OnceLock::new();
+    REGISTERED
+        .get_or_init(|| {
+            const CANDIDATES: [&str; 3] = [
+                "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
+                "/usr/share/fonts/TTF/DejaVuSans.ttf",
+                "/usr/share/fonts/dejavu/DejaVuSans.ttf",
+            ];
+            let Some(bytes) = CANDIDATES.iter().find_map(|p| std::fs::read(p).ok()) else {
+                return Err(format!(
+                    "the plot needs the DejaVu Sans font (looked in {}): install it with `apt-get install fonts-dejavu-core`",
+                    CANDIDATES.join(", ")
+                ));
+            };
+            // plotters keeps the font for the process's life.
+            let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
+            plotters::style::register_font("sans-serif", plotters::style::FontStyle::Normal, bytes)
+                .map_err(|_| "DejaVu Sans could not be parsed".to_string())
+        })
+        .clone()
+        .map_err(|e| anyhow::anyhow!(e))
+}
