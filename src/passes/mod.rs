@@ -8,6 +8,7 @@ pub mod godrays;
 pub mod grid_splat;
 pub mod mesh;
 pub mod photon_accumulation;
+pub mod present;
 pub mod reflection;
 pub mod refraction;
 pub mod scene;

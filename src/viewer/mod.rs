@@ -1,7 +1,7 @@
 //! The interactive viewer: the method live in a window, on any Vulkan driver.
 //!
-//! The frame renders off screen exactly as the headless renderer does; a "present" pass
-//! blits its output into the acquired swapchain image. Resizing recreates the swapchain and
+//! The frame renders off screen exactly as the headless renderer does; the present pass
+//! (`passes::present`) blits its output into the acquired swapchain image. Resizing recreates the swapchain and
 //! the frame (effect targets keep their fraction of the window); a 0×0 window draws nothing
 //! until it has an area again. Toggling an effect rebuilds the frame, since the scene decides
 //! which passes and targets exist.
@@ -15,9 +15,9 @@ use crate::frame::{Frame, FrameOptions};
 use crate::headless::median_timings;
 use crate::image_io;
 use crate::memory::MemorySample;
+use crate::passes::present::{PresentPass, ACQUIRE_WAIT_STAGE};
 use crate::passes::PassId;
 use crate::scene::{Scene, WaterModel};
-use crate::vk::buffer::Buffer;
 use crate::vk::swapchain::{PresentMode, Surface, Swapchain};
 use crate::vk::{Context, ContextDesc, ShutdownReport};
 use anyhow::{anyhow, Context as _, Result};
@@ -105,7 +105,7 @@ struct Live {
     frame: Option<Frame>,
     ring: FrameRing,
     swapchain: Option<Swapchain>,
-    screenshot_buffer: Option<Buffer>,
+    present: PresentPass,
     /// The device clamps last printed (`Frame::clamped`).
     reported_clamps: Vec<String>,
     surface: Surface,
@@ -241,6 +241,7 @@ impl Live {
         // SAFETY: the window outlives the surface (`Live` drops the surface first).
         let surface = unsafe { Surface::new(&ctx.device, display, handle)? };
         let ring = FrameRing::new(&ctx.device)?;
+        let present = PresentPass::new(&ctx.device);
         println!("device: {}", ctx.device.info.describe());
         println!(
             "keys: WASD/QE move (Shift faster), right-drag or arrows look, 1/2/3 caustics/godrays/filter, \
@@ -252,7 +253,7 @@ impl Live {
             frame: None,
             ring,
             swapchain: None,
-            screenshot_buffer: None,
+            present,
             reported_clamps: Vec::new(),
             surface,
             ctx,
@@ -320,7 +321,7 @@ impl Live {
             self.reported_clamps = frame.clamped.clone();
         }
         self.frame = Some(frame);
-        self.screenshot_buffer = None;
+        self.present.release_screenshot_buffer();
         Ok(())
     }
 
@@ -578,24 +579,17 @@ impl Live {
         frame.record(slot, self.time);
         let cmd = slot.cmd;
         let output = &frame.compose.output.image;
-        let dev = &self.ctx.device;
         let screenshot = self.pending_screenshot.take();
-        if screenshot.is_some() && self.screenshot_buffer.is_none() {
-            self.screenshot_buffer = Some(Buffer::new(
-                dev,
-                "screenshot",
-                (swapchain.extent.width * swapchain.extent.height * 4) as u64,
-                vk::BufferUsageFlags::TRANSFER_DST,
-                gpu_allocator::MemoryLocation::GpuToCpu,
-            )?);
+        if screenshot.is_some() {
+            self.present.prepare_screenshot(swapchain.extent)?;
         }
-        let shot_buffer = screenshot.as_ref().and(self.screenshot_buffer.as_ref());
+        let present = &self.present;
         slot.timer.pass(cmd, PassId::Present, |cmd| {
-            record_present(dev, cmd, output, image, swapchain.extent, shot_buffer);
+            present.record(cmd, output, image, swapchain.extent, screenshot.is_some());
         });
         let waits = [vk::SemaphoreSubmitInfo::default()
             .semaphore(swapchain.acquired[slot_index])
-            .stage_mask(vk::PipelineStageFlags2::ALL_TRANSFER)];
+            .stage_mask(ACQUIRE_WAIT_STAGE)];
         let signals = [vk::SemaphoreSubmitInfo::default()
             .semaphore(swapchain.rendered[image_index as usize])
             .stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)];
@@ -635,7 +629,7 @@ impl Live {
     }
 
     fn save_screenshot(&self, path: &std::path::Path) -> Result<()> {
-        let (Some(buffer), Some(sc)) = (&self.screenshot_buffer, &self.swapchain) else { return Ok(()) };
+        let (Some(buffer), Some(sc)) = (self.present.screenshot_buffer(), &self.swapchain) else { return Ok(()) };
         let bytes = buffer.mapped().context("screenshot buffer is not mapped")?;
         let mut rgba = bytes.to_vec();
         if sc.format == vk::Format::B8G8R8A8_SRGB {
@@ -677,105 +671,11 @@ impl Live {
             print_memory(early);
             print_memory(&MemorySample::now(&self.ctx.device, self.frames_rendered));
         }
-        let Live { frame, ring, swapchain, screenshot_buffer, surface, ctx, window, .. } = self;
+        let Live { frame, ring, swapchain, present, surface, ctx, window, .. } = self;
         let _ = ctx.device.wait_idle();
-        drop((frame, ring, swapchain, screenshot_buffer, surface));
+        drop((frame, ring, swapchain, present, surface));
         let report = ctx.shutdown();
         drop(window);
         report
-    }
-}
-
-/// Blits the frame's output into the swapchain image and leaves it ready to present; with
-/// `screenshot`, also copies the presented image into that buffer.
-fn record_present(
-    dev: &crate::vk::device::Device,
-    cmd: vk::CommandBuffer,
-    output: &crate::vk::image::Image,
-    image: vk::Image,
-    extent: vk::Extent2D,
-    screenshot: Option<&Buffer>,
-) {
-    let range =
-        vk::ImageSubresourceRange::default().aspect_mask(vk::ImageAspectFlags::COLOR).level_count(1).layer_count(1);
-    let layers = vk::ImageSubresourceLayers::default().aspect_mask(vk::ImageAspectFlags::COLOR).layer_count(1);
-    let barrier = |old, new, src_stage, src_access, dst_stage, dst_access| {
-        vk::ImageMemoryBarrier2::default()
-            .src_stage_mask(src_stage)
-            .src_access_mask(src_access)
-            .dst_stage_mask(dst_stage)
-            .dst_access_mask(dst_access)
-            .old_layout(old)
-            .new_layout(new)
-            .image(image)
-            .subresource_range(range)
-    };
-    let corner = vk::Offset3D { x: extent.width as i32, y: extent.height as i32, z: 1 };
-    let blit = vk::ImageBlit::default()
-        .src_subresource(layers)
-        .src_offsets([vk::Offset3D::default(), corner])
-        .dst_subresource(layers)
-        .dst_offsets([vk::Offset3D::default(), corner]);
-    unsafe {
-        // After the acquire semaphore (waited at the transfer stage), before the blit.
-        let to_dst = [barrier(
-            vk::ImageLayout::UNDEFINED,
-            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            vk::PipelineStageFlags2::ALL_TRANSFER,
-            vk::AccessFlags2::NONE,
-            vk::PipelineStageFlags2::BLIT,
-            vk::AccessFlags2::TRANSFER_WRITE,
-        )];
-        dev.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(&to_dst));
-        dev.raw.cmd_blit_image(
-            cmd,
-            output.raw,
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            image,
-            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            &[blit],
-            vk::Filter::NEAREST,
-        );
-        let mut last = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
-        if let Some(buffer) = screenshot {
-            let to_src = [barrier(
-                last,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                vk::PipelineStageFlags2::BLIT,
-                vk::AccessFlags2::TRANSFER_WRITE,
-                vk::PipelineStageFlags2::COPY,
-                vk::AccessFlags2::TRANSFER_READ,
-            )];
-            dev.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(&to_src));
-            let region = vk::BufferImageCopy::default().image_subresource(layers).image_extent(vk::Extent3D {
-                width: extent.width,
-                height: extent.height,
-                depth: 1,
-            });
-            dev.raw.cmd_copy_image_to_buffer(cmd, image, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, buffer.raw, &[region]);
-            let to_host = [vk::MemoryBarrier2::default()
-                .src_stage_mask(vk::PipelineStageFlags2::COPY)
-                .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-                .dst_stage_mask(vk::PipelineStageFlags2::HOST)
-                .dst_access_mask(vk::AccessFlags2::HOST_READ)];
-            dev.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&to_host));
-            last = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
-        }
-        // Presentation is ordered by the semaphore the submission signals.
-        // The last access matches the layout it leaves (best practices checks the pairing).
-        let last_access = if last == vk::ImageLayout::TRANSFER_DST_OPTIMAL {
-            vk::AccessFlags2::TRANSFER_WRITE
-        } else {
-            vk::AccessFlags2::TRANSFER_READ
-        };
-        let to_present = [barrier(
-            last,
-            vk::ImageLayout::PRESENT_SRC_KHR,
-            vk::PipelineStageFlags2::ALL_TRANSFER,
-            last_access,
-            vk::PipelineStageFlags2::NONE,
-            vk::AccessFlags2::NONE,
-        )];
-        dev.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(&to_present));
     }
 }
