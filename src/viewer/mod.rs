@@ -1,42 +1,43 @@
 //! The interactive viewer: the method live in a window, on any Vulkan driver.
 //!
-//! The frame renders off screen exactly as the headless renderer does; a "present" pass
-//! blits its output into the acquired swapchain image. Resizing recreates the swapchain and
-//! the frame (effect targets keep their fraction of the window); a 0×0 window draws nothing
-//! until it has an area again. Toggling an effect rebuilds the frame, since the scene decides
-//! which passes and targets exist.
+//! The frame renders off screen exactly as the headless renderer does; the present pass
+//! (`passes::present`) blits its output into the acquired swapchain image. Resizing
+//! recreates the swapchain and the frame (effect targets keep their fraction of the window);
+//! a 0×0 window draws nothing until it has an area again. Toggling an effect rebuilds the
+//! frame, since the scene decides which passes and targets exist.
+//!
+//! This file holds the event loop and the window's, swapchain's and frame's lifecycle; keys
+//! and mouse are in `input`, the title's timings and the memory report in `timings`, and
+//! scripted sessions in `script`.
 
 pub mod camera;
+mod input;
 pub mod script;
+mod timings;
 
 use crate::frame::FrameRing;
-use crate::frame::PassTimings;
 use crate::frame::{Frame, FrameOptions};
-use crate::headless::median_timings;
 use crate::image_io;
-use crate::memory::MemorySample;
+use crate::passes::present::{PresentPass, ACQUIRE_WAIT_STAGE};
 use crate::passes::PassId;
-use crate::scene::{Scene, WaterModel};
-use crate::vk::buffer::Buffer;
+use crate::scene::Scene;
 use crate::vk::swapchain::{PresentMode, Surface, Swapchain};
 use crate::vk::{Context, ContextDesc, ShutdownReport};
 use anyhow::{anyhow, Context as _, Result};
 use ash::vk;
 use camera::FlyCamera;
+use input::Input;
 use raw_window_handle::{HasDisplayHandle, HasWindowHandle};
-use script::{Effect, Preset, Step};
-use std::collections::VecDeque;
+use script::{Script, Step};
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
+use timings::Timings;
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, MouseButton, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, EventLoop};
-use winit::keyboard::{KeyCode, PhysicalKey};
+use winit::keyboard::PhysicalKey;
 use winit::window::{Window, WindowId};
-
-/// Frames whose timings the title's medians are taken over.
-const TIMING_WINDOW: usize = 60;
 
 pub struct ViewerOptions {
     pub scene: Scene,
@@ -82,7 +83,7 @@ pub fn run(options: ViewerOptions) -> Result<ViewerReport> {
     let mut counts = [0u64; PassId::ALL.len()];
     let shutdown = match app.live.take() {
         Some(live) => {
-            counts = live.pass_frames;
+            counts = live.timings.pass_frames;
             live.shutdown()
         }
         None => app.report.take().unwrap_or_default(),
@@ -99,55 +100,50 @@ struct App {
     report: Option<ShutdownReport>,
 }
 
-/// Everything that exists while the window is open. Field order is drop order: GPU objects
-/// before the surface, the surface before the device, the window last.
+/// Everything that exists while the window is open. Field order is drop order: the GPU state
+/// before the window it presents to.
 struct Live {
+    gpu: Gpu,
+    window: Window,
+    view: View,
+    input: Input,
+    script: Script,
+    timings: Timings,
+    /// Frames presented so far.
+    frames_rendered: u64,
+    /// Saved from the next frame presented (F12, a script step, the last of `--frames`).
+    pending_screenshot: Option<PathBuf>,
+}
+
+/// The device and what draws into the window. Field order is drop order: GPU objects before
+/// the surface, the surface before the device.
+struct Gpu {
     frame: Option<Frame>,
     ring: FrameRing,
+    /// None while the window has no area (minimised).
     swapchain: Option<Swapchain>,
-    screenshot_buffer: Option<Buffer>,
+    present: PresentPass,
+    present_mode: PresentMode,
     /// The device clamps last printed (`Frame::clamped`).
     reported_clamps: Vec<String>,
     surface: Surface,
     ctx: Context,
-    window: Window,
+}
+
+/// What the window shows: the scene with its current settings, seen from the fly camera, at
+/// the animation's time.
+struct View {
     /// The scene as loaded (camera reset, default preset) and as currently shown.
     loaded: Scene,
     scene: Scene,
     camera: FlyCamera,
-    present_mode: PresentMode,
     time: f32,
     paused: bool,
+    /// Advance the paused animation by one frame (N).
     step_once: bool,
+    /// When the last redraw began: the time since moves the camera, and the animation when
+    /// it runs in real time.
     last_instant: Instant,
-    keys_down: Vec<KeyCode>,
-    looking: bool,
-    cursor: Option<(f64, f64)>,
-    script: VecDeque<Step>,
-    frames_left_in_step: u32,
-    frames_rendered: u64,
-    pending_screenshot: Option<PathBuf>,
-    timings: VecDeque<PassTimings>,
-    /// Frames each pass was recorded in, indexed as `PassId::ALL`.
-    pass_frames: [u64; PassId::ALL.len()],
-    last_report: Instant,
-    frames_since_report: u32,
-    /// Memory after frame `MEMORY_SAMPLE_FRAME`, printed beside the memory at exit: a window
-    /// left open must not grow.
-    memory_early: Option<MemorySample>,
-}
-
-/// The frame whose memory the viewer compares with its memory at exit (after warm-up).
-const MEMORY_SAMPLE_FRAME: u64 = 100;
-
-fn print_memory(sample: &MemorySample) {
-    println!(
-        "memory at frame {}: resident {} bytes, device {} bytes in {} allocations",
-        sample.frame,
-        sample.resident_bytes.map_or("unknown".to_string(), |b| b.to_string()),
-        sample.device.allocated_bytes,
-        sample.device.allocations
-    );
 }
 
 impl ApplicationHandler for App {
@@ -183,18 +179,11 @@ impl ApplicationHandler for App {
                 }
             }
             WindowEvent::MouseInput { button: MouseButton::Right, state, .. } => {
-                live.looking = state == ElementState::Pressed;
-                live.cursor = None;
+                live.input.look(state == ElementState::Pressed);
                 Ok(())
             }
             WindowEvent::CursorMoved { position, .. } => {
-                if live.looking {
-                    if let Some((x, y)) = live.cursor {
-                        let k = 0.004;
-                        live.camera.turn((position.x - x) as f32 * k, -(position.y - y) as f32 * k);
-                    }
-                    live.cursor = Some((position.x, position.y));
-                }
+                live.input.cursor_moved(position.x, position.y, &mut live.view.camera);
                 Ok(())
             }
             WindowEvent::RedrawRequested => match live.redraw(&self.options) {
@@ -238,53 +227,153 @@ impl Live {
             .context("surface extensions for this window system")?
             .to_vec();
         let ctx = Context::new(&desc)?;
-        // SAFETY: the window outlives the surface (`Live` drops the surface first).
+        // SAFETY: the window outlives the surface (`Live` drops the GPU state first).
         let surface = unsafe { Surface::new(&ctx.device, display, handle)? };
         let ring = FrameRing::new(&ctx.device)?;
+        let present = PresentPass::new(&ctx.device);
         println!("device: {}", ctx.device.info.describe());
-        println!(
-            "keys: WASD/QE move (Shift faster), right-drag or arrows look, 1/2/3 caustics/godrays/filter, \
-             4 caustic estimator, \
-             M water model, +/- amplitude, P pause, N step, H/L high/default preset, R reset camera, \
-             I settings, F12 screenshot, Esc quit"
-        );
-        let mut live = Self {
+        println!("{}", input::KEYS_HELP);
+        let gpu = Gpu {
             frame: None,
             ring,
             swapchain: None,
-            screenshot_buffer: None,
+            present,
+            present_mode: options.present_mode,
             reported_clamps: Vec::new(),
             surface,
             ctx,
-            window,
+        };
+        let view = View {
             camera: FlyCamera::from_camera(&scene.camera),
             loaded: scene.clone(),
             scene,
-            present_mode: options.present_mode,
             time: options.time,
             paused: options.paused,
             step_once: false,
             last_instant: Instant::now(),
-            keys_down: Vec::new(),
-            looking: false,
-            cursor: None,
-            script: options.script.iter().cloned().collect(),
-            frames_left_in_step: 0,
+        };
+        let mut live = Self {
+            gpu,
+            window,
+            view,
+            input: Input::new(),
+            script: Script::new(&options.script),
+            timings: Timings::new(),
             frames_rendered: 0,
             pending_screenshot: None,
-            timings: VecDeque::with_capacity(TIMING_WINDOW),
-            pass_frames: [0; PassId::ALL.len()],
-            last_report: Instant::now(),
-            frames_since_report: 0,
-            memory_early: None,
         };
         let size = live.window.inner_size();
         live.resize(size)?;
         Ok(live)
     }
 
-    /// Recreates the swapchain for the window's size, and the frame if the size changed.
     fn resize(&mut self, size: PhysicalSize<u32>) -> Result<()> {
+        self.gpu.resize(size, &self.view.scene)
+    }
+
+    fn finished(&self, options: &ViewerOptions) -> bool {
+        if !options.script.is_empty() {
+            return self.script.ended() && self.pending_screenshot.is_none();
+        }
+        options.frames.is_some_and(|n| self.frames_rendered >= n as u64)
+    }
+
+    /// Draws one frame if the window has an area. Returns whether a frame was presented
+    /// (`None` when nothing was attempted).
+    fn redraw(&mut self, options: &ViewerOptions) -> Result<Option<bool>> {
+        self.advance_script()?;
+        let now = Instant::now();
+        let dt = (now - self.view.last_instant).as_secs_f32().min(0.1);
+        self.view.last_instant = now;
+        self.input.fly(&mut self.view.camera, dt);
+        let gpu = &mut self.gpu;
+        if gpu.frame.is_none() {
+            if let Some(extent) = gpu.swapchain.as_ref().map(|s| s.extent) {
+                gpu.rebuild_frame(extent, &self.view.scene)?;
+            }
+        }
+        let (Some(frame), Some(swapchain)) = (gpu.frame.as_mut(), gpu.swapchain.as_ref()) else {
+            // Minimised: count scripted frames anyway so a script cannot hang on a hidden window.
+            self.script.frame_done();
+            std::thread::sleep(Duration::from_millis(10));
+            return Ok(None);
+        };
+        // The last frame of `--frames` with `--screenshot` is saved.
+        if options.frames.is_some_and(|n| self.frames_rendered + 1 == n as u64) && options.screenshot.is_some() {
+            self.pending_screenshot = options.screenshot.clone();
+        }
+        let view = &mut self.view;
+        if !view.paused || view.step_once {
+            view.time += if options.script.is_empty() && options.frames.is_none() { dt } else { 1.0 / 60.0 };
+            view.step_once = false;
+        }
+        {
+            let s = frame.scene_mut();
+            view.camera.apply(&mut s.camera);
+            s.water = view.scene.water;
+        }
+
+        let slot = gpu.ring.begin()?;
+        let slot_index = slot.index;
+        let acquired = swapchain.acquire(slot_index)?;
+        let Some(image_index) = acquired else {
+            // Out of date: drop this frame's recording and rebuild for the window's size.
+            gpu.ring.abandon()?;
+            let size = self.window.inner_size();
+            self.resize(size)?;
+            return Ok(Some(false));
+        };
+        let image = swapchain.images[image_index as usize];
+        frame.record(slot, view.time);
+        let cmd = slot.cmd;
+        let output = &frame.compose.output.image;
+        let screenshot = self.pending_screenshot.take();
+        if screenshot.is_some() {
+            gpu.present.prepare_screenshot(swapchain.extent)?;
+        }
+        let present = &gpu.present;
+        slot.timer.pass(cmd, PassId::Present, |cmd| {
+            present.record(cmd, output, image, swapchain.extent, screenshot.is_some());
+        });
+        let waits = [vk::SemaphoreSubmitInfo::default()
+            .semaphore(swapchain.acquired[slot_index])
+            .stage_mask(ACQUIRE_WAIT_STAGE)];
+        let signals = [vk::SemaphoreSubmitInfo::default()
+            .semaphore(swapchain.rendered[image_index as usize])
+            .stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)];
+        gpu.ring.submit(&waits, &signals)?;
+        if let Some((_, t)) = gpu.ring.take_fresh_timings() {
+            self.timings.record(t);
+        }
+        let ok = swapchain.present(image_index)?;
+        self.frames_rendered += 1;
+        self.timings.presented(&gpu.ctx.device, self.frames_rendered);
+        self.script.frame_done();
+        if let Some(path) = screenshot {
+            // A screenshot is an explicit request: waiting for its frame is what it asks for.
+            gpu.ring.finish(|_, _| {})?;
+            gpu.save_screenshot(&path)?;
+        }
+        self.timings.report(&self.window, &self.view.scene.name, self.frames_rendered);
+        if !ok {
+            let size = self.window.inner_size();
+            self.resize(size)?;
+        }
+        Ok(Some(true))
+    }
+
+    fn shutdown(self) -> ShutdownReport {
+        self.timings.print_memory(&self.gpu.ctx.device, self.frames_rendered);
+        let Live { gpu, window, .. } = self;
+        let report = gpu.shutdown();
+        drop(window);
+        report
+    }
+}
+
+impl Gpu {
+    /// Recreates the swapchain for the window's size, and the frame if the size changed.
+    fn resize(&mut self, size: PhysicalSize<u32>, scene: &Scene) -> Result<()> {
         let extent = vk::Extent2D { width: size.width, height: size.height };
         let dev = self.ctx.device.clone();
         dev.wait_idle()?;
@@ -299,18 +388,18 @@ impl Live {
         if let Some(sc) = &self.swapchain {
             let same = self.frame.as_ref().map(|f| f.extents.output == [sc.extent.width, sc.extent.height]);
             if same != Some(true) {
-                self.rebuild_frame(sc.extent)?;
+                self.rebuild_frame(sc.extent, scene)?;
             }
         }
         Ok(())
     }
 
-    /// A new frame for the current scene: passes and targets follow its effects.
-    fn rebuild_frame(&mut self, extent: vk::Extent2D) -> Result<()> {
+    /// A new frame for `scene`: passes and targets follow its effects.
+    fn rebuild_frame(&mut self, extent: vk::Extent2D, scene: &Scene) -> Result<()> {
         self.ctx.device.wait_idle()?;
         self.frame = None;
         let options = FrameOptions { camera_moves: true, ..FrameOptions::default() };
-        let frame = Frame::new(&self.ctx.device, &self.scene, extent, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, options)?;
+        let frame = Frame::new(&self.ctx.device, scene, extent, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, options)?;
         // Settings beyond what the device can draw (point sizes, line width) are clamped;
         // say so once per change, not on every resize.
         if frame.clamped != self.reported_clamps {
@@ -320,13 +409,14 @@ impl Live {
             self.reported_clamps = frame.clamped.clone();
         }
         self.frame = Some(frame);
-        self.screenshot_buffer = None;
+        self.present.release_screenshot_buffer();
         Ok(())
     }
 
-    fn rebuild_current(&mut self) -> Result<()> {
+    /// A new frame for `scene` after a change of its settings.
+    fn rebuild_current(&mut self, scene: &Scene) -> Result<()> {
         match self.swapchain.as_ref().map(|s| s.extent) {
-            Some(extent) => self.rebuild_frame(extent),
+            Some(extent) => self.rebuild_frame(extent, scene),
             // Minimised: rebuild when the window comes back.
             None => {
                 self.frame = None;
@@ -335,307 +425,8 @@ impl Live {
         }
     }
 
-    fn toggle(&mut self, effect: Effect) -> Result<()> {
-        let e = &mut self.scene.effects;
-        let flag = match effect {
-            Effect::Caustics => &mut e.caustics,
-            Effect::Godrays => &mut e.godrays,
-            Effect::Filter => &mut e.filter,
-        };
-        *flag = !*flag;
-        println!("{effect:?}: {}", if *flag { "on" } else { "off" });
-        self.rebuild_current()
-    }
-
-    /// The next caustic estimator (paper's points, triangles). The triangles' geometry shader
-    /// takes at most TRIANGLE_MAX_SUBDIVISION; a finer subdivision is lowered to it.
-    fn next_estimator(&mut self) -> Result<()> {
-        use crate::scene::CausticEstimator;
-        let e = &mut self.scene.effects;
-        e.caustic_estimator = match e.caustic_estimator {
-            CausticEstimator::Paper => CausticEstimator::Triangles,
-            CausticEstimator::Triangles => CausticEstimator::Paper,
-        };
-        let max = crate::shader_math::TRIANGLE_MAX_SUBDIVISION;
-        if e.caustic_estimator == CausticEstimator::Triangles && e.caustic_subdivision > max {
-            println!("caustic subdivision {} lowered to {max} for the triangle estimator", e.caustic_subdivision);
-            e.caustic_subdivision = max;
-        }
-        println!("caustic estimator: {}", e.caustic_estimator.name());
-        self.rebuild_current()
-    }
-
-    fn preset(&mut self, preset: Preset) -> Result<()> {
-        let e = &mut self.scene.effects;
-        match preset {
-            // The paper's high setting: 1M caustic photons, 360k godray photons, small points.
-            Preset::High => {
-                e.caustic_grid = 500;
-                e.caustic_subdivision = 2;
-                e.godray_grid = 300;
-                e.godray_subdivision = 2;
-                e.point_size_min = 2.0;
-                e.point_size_max = 10.0;
-            }
-            Preset::Default => {
-                let d = &self.loaded.effects;
-                e.caustic_grid = d.caustic_grid;
-                e.caustic_subdivision = d.caustic_subdivision;
-                e.caustic_estimator = d.caustic_estimator;
-                e.godray_grid = d.godray_grid;
-                e.godray_subdivision = d.godray_subdivision;
-                e.point_size_min = d.point_size_min;
-                e.point_size_max = d.point_size_max;
-            }
-        }
-        println!("preset {preset:?}");
-        self.rebuild_current()
-    }
-
-    fn next_water(&mut self) {
-        let w = &mut self.scene.water;
-        w.model = match w.model {
-            WaterModel::CircularCosine => WaterModel::AxisCosineNoise,
-            WaterModel::AxisCosineNoise => WaterModel::CircularCosine,
-        };
-        println!("water model: {:?}", w.model);
-    }
-
-    fn scale_amplitude(&mut self, factor: f32) {
-        let w = &mut self.scene.water;
-        w.amplitude = (w.amplitude * factor).clamp(0.0, w.wavelength);
-        println!("wave amplitude: {:.4} m", w.amplitude);
-    }
-
-    fn key(&mut self, code: KeyCode, pressed: bool, event_loop: &ActiveEventLoop) -> Result<()> {
-        if !pressed {
-            self.keys_down.retain(|k| *k != code);
-            return Ok(());
-        }
-        if !self.keys_down.contains(&code) {
-            self.keys_down.push(code);
-        }
-        match code {
-            KeyCode::Escape => event_loop.exit(),
-            KeyCode::Digit1 => self.toggle(Effect::Caustics)?,
-            KeyCode::Digit2 => self.toggle(Effect::Godrays)?,
-            KeyCode::Digit3 => self.toggle(Effect::Filter)?,
-            KeyCode::Digit4 => self.next_estimator()?,
-            KeyCode::KeyM => self.next_water(),
-            KeyCode::Equal | KeyCode::NumpadAdd => self.scale_amplitude(1.25),
-            KeyCode::Minus | KeyCode::NumpadSubtract => self.scale_amplitude(0.8),
-            KeyCode::KeyP => self.paused = !self.paused,
-            KeyCode::KeyN => self.step_once = true,
-            KeyCode::KeyH => self.preset(Preset::High)?,
-            KeyCode::KeyL => self.preset(Preset::Default)?,
-            KeyCode::KeyR => self.camera = FlyCamera::from_camera(&self.loaded.camera),
-            KeyCode::KeyI => self.print_settings(),
-            KeyCode::F12 => {
-                self.pending_screenshot = Some(PathBuf::from(format!("out/screenshot-{}.png", self.frames_rendered)))
-            }
-            _ => {}
-        }
-        Ok(())
-    }
-
-    fn print_settings(&self) {
-        let s = &self.scene;
-        let e = &s.effects;
-        println!(
-            "scene {:?}: camera {:.2} yaw {:.1}° pitch {:.1}°; water {:?} amplitude {} m; caustics {} ({}²×{}², {}), \
-             godrays {} ({}²×{}²), filter {}; points {}–{} px; time {:.2} s{}",
-            s.name,
-            self.camera.position,
-            self.camera.yaw.to_degrees(),
-            self.camera.pitch.to_degrees(),
-            s.water.model,
-            s.water.amplitude,
-            e.caustics,
-            e.caustic_grid,
-            e.caustic_subdivision,
-            e.caustic_estimator.name(),
-            e.godrays,
-            e.godray_grid,
-            e.godray_subdivision,
-            e.filter,
-            e.point_size_min,
-            e.point_size_max,
-            self.time,
-            if self.paused { " (paused)" } else { "" }
-        );
-    }
-
-    /// Moves the camera by the keys held, scaled by the time since the last frame.
-    fn fly(&mut self, dt: f32) {
-        let fast = self.keys_down.iter().any(|k| matches!(k, KeyCode::ShiftLeft | KeyCode::ShiftRight));
-        let speed = if fast { 4.0 } else { 1.0 } * dt;
-        let turn = 1.2 * dt;
-        for i in 0..self.keys_down.len() {
-            match self.keys_down[i] {
-                KeyCode::KeyW => self.camera.translate(0.0, 0.0, speed),
-                KeyCode::KeyS => self.camera.translate(0.0, 0.0, -speed),
-                KeyCode::KeyD => self.camera.translate(speed, 0.0, 0.0),
-                KeyCode::KeyA => self.camera.translate(-speed, 0.0, 0.0),
-                KeyCode::KeyE => self.camera.translate(0.0, speed, 0.0),
-                KeyCode::KeyQ => self.camera.translate(0.0, -speed, 0.0),
-                KeyCode::ArrowLeft => self.camera.turn(-turn, 0.0),
-                KeyCode::ArrowRight => self.camera.turn(turn, 0.0),
-                KeyCode::ArrowUp => self.camera.turn(0.0, turn),
-                KeyCode::ArrowDown => self.camera.turn(0.0, -turn),
-                _ => {}
-            }
-        }
-    }
-
-    /// Runs script steps until one asks for frames (or the script ends).
-    fn advance_script(&mut self) -> Result<()> {
-        while self.frames_left_in_step == 0 {
-            let Some(step) = self.script.pop_front() else { return Ok(()) };
-            match step {
-                Step::Frames(n) => self.frames_left_in_step = n,
-                Step::Resize(w, h) => {
-                    let size = PhysicalSize::new(w, h);
-                    // The window system applies it when it can; apply it here too, so the
-                    // script does not depend on a window manager being present.
-                    let _ = self.window.request_inner_size(size);
-                    self.resize(size)?;
-                }
-                Step::Minimize => {
-                    self.window.set_minimized(true);
-                    // Without a window manager (Xvfb) nothing iconifies; take the 0×0 path a
-                    // minimised window reports, which is what this step tests.
-                    self.resize(PhysicalSize::new(0, 0))?;
-                }
-                Step::Restore => {
-                    self.window.set_minimized(false);
-                    let size = self.window.inner_size();
-                    self.resize(size)?;
-                }
-                Step::Toggle(effect) => self.toggle(effect)?,
-                Step::NextEstimator => self.next_estimator()?,
-                Step::NextWater => self.next_water(),
-                Step::Amplitude(f) => self.scale_amplitude(f),
-                Step::Move(r, u, f) => self.camera.translate(r, u, f),
-                Step::Look(yaw, pitch) => self.camera.turn(yaw.to_radians(), pitch.to_radians()),
-                Step::Preset(p) => self.preset(p)?,
-                Step::Screenshot(path) => self.pending_screenshot = Some(PathBuf::from(path)),
-            }
-        }
-        Ok(())
-    }
-
-    fn finished(&self, options: &ViewerOptions) -> bool {
-        if !options.script.is_empty() {
-            return self.script.is_empty() && self.frames_left_in_step == 0 && self.pending_screenshot.is_none();
-        }
-        options.frames.is_some_and(|n| self.frames_rendered >= n as u64)
-    }
-
-    /// Draws one frame if the window has an area. Returns whether a frame was presented
-    /// (`None` when nothing was attempted).
-    fn redraw(&mut self, options: &ViewerOptions) -> Result<Option<bool>> {
-        self.advance_script()?;
-        let now = Instant::now();
-        let dt = (now - self.last_instant).as_secs_f32().min(0.1);
-        self.last_instant = now;
-        self.fly(dt);
-        if self.frame.is_none() {
-            if let Some(extent) = self.swapchain.as_ref().map(|s| s.extent) {
-                self.rebuild_frame(extent)?;
-            }
-        }
-        let (Some(frame), Some(swapchain)) = (self.frame.as_mut(), self.swapchain.as_ref()) else {
-            // Minimised: count scripted frames anyway so a script cannot hang on a hidden window.
-            self.frames_left_in_step = self.frames_left_in_step.saturating_sub(1);
-            std::thread::sleep(Duration::from_millis(10));
-            return Ok(None);
-        };
-        // The last frame of `--frames` with `--screenshot` is saved.
-        if options.frames.is_some_and(|n| self.frames_rendered + 1 == n as u64) && options.screenshot.is_some() {
-            self.pending_screenshot = options.screenshot.clone();
-        }
-        if !self.paused || self.step_once {
-            self.time += if options.script.is_empty() && options.frames.is_none() { dt } else { 1.0 / 60.0 };
-            self.step_once = false;
-        }
-        {
-            let s = frame.scene_mut();
-            self.camera.apply(&mut s.camera);
-            s.water = self.scene.water;
-        }
-
-        let slot = self.ring.begin()?;
-        let slot_index = slot.index;
-        let acquired = swapchain.acquire(slot_index)?;
-        let Some(image_index) = acquired else {
-            // Out of date: drop this frame's recording and rebuild for the window's size.
-            self.ring.abandon()?;
-            let size = self.window.inner_size();
-            self.resize(size)?;
-            return Ok(Some(false));
-        };
-        let image = swapchain.images[image_index as usize];
-        frame.record(slot, self.time);
-        let cmd = slot.cmd;
-        let output = &frame.compose.output.image;
-        let dev = &self.ctx.device;
-        let screenshot = self.pending_screenshot.take();
-        if screenshot.is_some() && self.screenshot_buffer.is_none() {
-            self.screenshot_buffer = Some(Buffer::new(
-                dev,
-                "screenshot",
-                (swapchain.extent.width * swapchain.extent.height * 4) as u64,
-                vk::BufferUsageFlags::TRANSFER_DST,
-                gpu_allocator::MemoryLocation::GpuToCpu,
-            )?);
-        }
-        let shot_buffer = screenshot.as_ref().and(self.screenshot_buffer.as_ref());
-        slot.timer.pass(cmd, PassId::Present, |cmd| {
-            record_present(dev, cmd, output, image, swapchain.extent, shot_buffer);
-        });
-        let waits = [vk::SemaphoreSubmitInfo::default()
-            .semaphore(swapchain.acquired[slot_index])
-            .stage_mask(vk::PipelineStageFlags2::ALL_TRANSFER)];
-        let signals = [vk::SemaphoreSubmitInfo::default()
-            .semaphore(swapchain.rendered[image_index as usize])
-            .stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)];
-        self.ring.submit(&waits, &signals)?;
-        // Keep the last 60 frames' timings, reusing the oldest entry's storage once full.
-        if let Some((_, t)) = self.ring.take_fresh_timings() {
-            let mut entry = if self.timings.len() == TIMING_WINDOW {
-                self.timings.pop_front().unwrap_or_default()
-            } else {
-                PassTimings::default()
-            };
-            entry.passes.clone_from(&t.passes);
-            for (id, _) in &entry.passes {
-                if let Some(i) = PassId::ALL.iter().position(|p| p == id) {
-                    self.pass_frames[i] += 1;
-                }
-            }
-            self.timings.push_back(entry);
-        }
-        let ok = swapchain.present(image_index)?;
-        self.frames_rendered += 1;
-        if self.frames_rendered == MEMORY_SAMPLE_FRAME {
-            self.memory_early = Some(MemorySample::now(&self.ctx.device, self.frames_rendered));
-        }
-        self.frames_left_in_step = self.frames_left_in_step.saturating_sub(1);
-        if let Some(path) = screenshot {
-            // A screenshot is an explicit request: waiting for its frame is what it asks for.
-            self.ring.finish(|_, _| {})?;
-            self.save_screenshot(&path)?;
-        }
-        self.report_timings();
-        if !ok {
-            let size = self.window.inner_size();
-            self.resize(size)?;
-        }
-        Ok(Some(true))
-    }
-
     fn save_screenshot(&self, path: &std::path::Path) -> Result<()> {
-        let (Some(buffer), Some(sc)) = (&self.screenshot_buffer, &self.swapchain) else { return Ok(()) };
+        let (Some(buffer), Some(sc)) = (self.present.screenshot_buffer(), &self.swapchain) else { return Ok(()) };
         let bytes = buffer.mapped().context("screenshot buffer is not mapped")?;
         let mut rgba = bytes.to_vec();
         if sc.format == vk::Format::B8G8R8A8_SRGB {
@@ -651,131 +442,10 @@ impl Live {
         Ok(())
     }
 
-    /// Puts the per-pass GPU times in the title twice a second and on the terminal every 2 s.
-    fn report_timings(&mut self) {
-        self.frames_since_report += 1;
-        let elapsed = self.last_report.elapsed();
-        if elapsed < Duration::from_millis(500) || self.timings.is_empty() {
-            return;
-        }
-        // Twice a second, not per frame: the copy for the median is fine here.
-        let frames: Vec<PassTimings> = self.timings.iter().cloned().collect();
-        let median = median_timings(&frames);
-        let fps = self.frames_since_report as f64 / elapsed.as_secs_f64();
-        let passes: Vec<String> = median.passes.iter().map(|(id, ms)| format!("{} {:.1}", id.name(), ms)).collect();
-        let line = format!("{:.1} fps | GPU ms: {} | total {:.1}", fps, passes.join(" "), median.total_ms());
-        self.window.set_title(&format!("underlight — {} — {line}", self.scene.name));
-        if self.frames_rendered.is_multiple_of(4) || elapsed > Duration::from_secs(2) {
-            println!("{line}");
-        }
-        self.last_report = Instant::now();
-        self.frames_since_report = 0;
-    }
-
     fn shutdown(self) -> ShutdownReport {
-        if let Some(early) = &self.memory_early {
-            print_memory(early);
-            print_memory(&MemorySample::now(&self.ctx.device, self.frames_rendered));
-        }
-        let Live { frame, ring, swapchain, screenshot_buffer, surface, ctx, window, .. } = self;
+        let Gpu { frame, ring, swapchain, present, surface, ctx, .. } = self;
         let _ = ctx.device.wait_idle();
-        drop((frame, ring, swapchain, screenshot_buffer, surface));
-        let report = ctx.shutdown();
-        drop(window);
-        report
-    }
-}
-
-/// Blits the frame's output into the swapchain image and leaves it ready to present; with
-/// `screenshot`, also copies the presented image into that buffer.
-fn record_present(
-    dev: &crate::vk::device::Device,
-    cmd: vk::CommandBuffer,
-    output: &crate::vk::image::Image,
-    image: vk::Image,
-    extent: vk::Extent2D,
-    screenshot: Option<&Buffer>,
-) {
-    let range =
-        vk::ImageSubresourceRange::default().aspect_mask(vk::ImageAspectFlags::COLOR).level_count(1).layer_count(1);
-    let layers = vk::ImageSubresourceLayers::default().aspect_mask(vk::ImageAspectFlags::COLOR).layer_count(1);
-    let barrier = |old, new, src_stage, src_access, dst_stage, dst_access| {
-        vk::ImageMemoryBarrier2::default()
-            .src_stage_mask(src_stage)
-            .src_access_mask(src_access)
-            .dst_stage_mask(dst_stage)
-            .dst_access_mask(dst_access)
-            .old_layout(old)
-            .new_layout(new)
-            .image(image)
-            .subresource_range(range)
-    };
-    let corner = vk::Offset3D { x: extent.width as i32, y: extent.height as i32, z: 1 };
-    let blit = vk::ImageBlit::default()
-        .src_subresource(layers)
-        .src_offsets([vk::Offset3D::default(), corner])
-        .dst_subresource(layers)
-        .dst_offsets([vk::Offset3D::default(), corner]);
-    unsafe {
-        // After the acquire semaphore (waited at the transfer stage), before the blit.
-        let to_dst = [barrier(
-            vk::ImageLayout::UNDEFINED,
-            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            vk::PipelineStageFlags2::ALL_TRANSFER,
-            vk::AccessFlags2::NONE,
-            vk::PipelineStageFlags2::BLIT,
-            vk::AccessFlags2::TRANSFER_WRITE,
-        )];
-        dev.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(&to_dst));
-        dev.raw.cmd_blit_image(
-            cmd,
-            output.raw,
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            image,
-            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            &[blit],
-            vk::Filter::NEAREST,
-        );
-        let mut last = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
-        if let Some(buffer) = screenshot {
-            let to_src = [barrier(
-                last,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                vk::PipelineStageFlags2::BLIT,
-                vk::AccessFlags2::TRANSFER_WRITE,
-                vk::PipelineStageFlags2::COPY,
-                vk::AccessFlags2::TRANSFER_READ,
-            )];
-            dev.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(&to_src));
-            let region = vk::BufferImageCopy::default().image_subresource(layers).image_extent(vk::Extent3D {
-                width: extent.width,
-                height: extent.height,
-                depth: 1,
-            });
-            dev.raw.cmd_copy_image_to_buffer(cmd, image, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, buffer.raw, &[region]);
-            let to_host = [vk::MemoryBarrier2::default()
-                .src_stage_mask(vk::PipelineStageFlags2::COPY)
-                .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-                .dst_stage_mask(vk::PipelineStageFlags2::HOST)
-                .dst_access_mask(vk::AccessFlags2::HOST_READ)];
-            dev.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&to_host));
-            last = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
-        }
-        // Presentation is ordered by the semaphore the submission signals.
-        // The last access matches the layout it leaves (best practices checks the pairing).
-        let last_access = if last == vk::ImageLayout::TRANSFER_DST_OPTIMAL {
-            vk::AccessFlags2::TRANSFER_WRITE
-        } else {
-            vk::AccessFlags2::TRANSFER_READ
-        };
-        let to_present = [barrier(
-            last,
-            vk::ImageLayout::PRESENT_SRC_KHR,
-            vk::PipelineStageFlags2::ALL_TRANSFER,
-            last_access,
-            vk::PipelineStageFlags2::NONE,
-            vk::AccessFlags2::NONE,
-        )];
-        dev.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().image_memory_barriers(&to_present));
+        drop((frame, ring, swapchain, present, surface));
+        ctx.shutdown()
     }
 }

@@ -1,7 +1,12 @@
 //! Scripted viewer sessions (`underlight view --script ...`), so tests and demos can drive
 //! the window the way a person would: resize, minimise, toggle effects, move the camera.
+//! `parse` reads a script; the viewer runs it a step at a time (`Script`).
 
+use super::Live;
 use anyhow::{bail, Context as _, Result};
+use std::collections::VecDeque;
+use std::path::PathBuf;
+use winit::dpi::PhysicalSize;
 
 /// One step of a script. Steps run in order; `Frames` renders before the next step.
 #[derive(Clone, Debug, PartialEq)]
@@ -97,6 +102,68 @@ pub fn parse(text: &str) -> Result<Vec<Step>> {
         });
     }
     Ok(steps)
+}
+
+/// A script as the viewer runs it: the steps left, and the frames the current `Frames` step
+/// has still to draw.
+pub(super) struct Script {
+    steps: VecDeque<Step>,
+    frames_left_in_step: u32,
+}
+
+impl Script {
+    pub(super) fn new(steps: &[Step]) -> Self {
+        Self { steps: steps.iter().cloned().collect(), frames_left_in_step: 0 }
+    }
+
+    /// A frame was presented, or skipped because the window has no area.
+    pub(super) fn frame_done(&mut self) {
+        self.frames_left_in_step = self.frames_left_in_step.saturating_sub(1);
+    }
+
+    /// Every step has run and drawn its frames.
+    pub(super) fn ended(&self) -> bool {
+        self.steps.is_empty() && self.frames_left_in_step == 0
+    }
+}
+
+impl Live {
+    /// Runs script steps until one asks for frames (or the script ends).
+    pub(super) fn advance_script(&mut self) -> Result<()> {
+        while self.script.frames_left_in_step == 0 {
+            let Some(step) = self.script.steps.pop_front() else { return Ok(()) };
+            match step {
+                Step::Frames(n) => self.script.frames_left_in_step = n,
+                Step::Resize(w, h) => {
+                    let size = PhysicalSize::new(w, h);
+                    // The window system applies it when it can; apply it here too, so the
+                    // script does not depend on a window manager being present.
+                    let _ = self.window.request_inner_size(size);
+                    self.resize(size)?;
+                }
+                Step::Minimize => {
+                    self.window.set_minimized(true);
+                    // Without a window manager (Xvfb) nothing iconifies; take the 0×0 path a
+                    // minimised window reports, which is what this step tests.
+                    self.resize(PhysicalSize::new(0, 0))?;
+                }
+                Step::Restore => {
+                    self.window.set_minimized(false);
+                    let size = self.window.inner_size();
+                    self.resize(size)?;
+                }
+                Step::Toggle(effect) => self.toggle(effect)?,
+                Step::NextEstimator => self.next_estimator()?,
+                Step::NextWater => self.next_water(),
+                Step::Amplitude(f) => self.scale_amplitude(f),
+                Step::Move(r, u, f) => self.view.camera.translate(r, u, f),
+                Step::Look(yaw, pitch) => self.view.camera.turn(yaw.to_radians(), pitch.to_radians()),
+                Step::Preset(p) => self.preset(p)?,
+                Step::Screenshot(path) => self.pending_screenshot = Some(PathBuf::from(path)),
+            }
+        }
+        Ok(())
+    }
 }
 
 #[cfg(test)]

@@ -1,0 +1,215 @@
+//! Keys and mouse: held keys fly the camera, right-drag turns it, and single keys change the
+//! scene's settings (the same changes script steps make).
+
+use super::camera::FlyCamera;
+use super::script::{Effect, Preset};
+use super::{Live, View};
+use crate::scene::WaterModel;
+use anyhow::Result;
+use std::path::PathBuf;
+use winit::event_loop::ActiveEventLoop;
+use winit::keyboard::KeyCode;
+
+/// Printed when the window opens.
+pub(super) const KEYS_HELP: &str =
+    "keys: WASD/QE move (Shift faster), right-drag or arrows look, 1/2/3 caustics/godrays/filter, \
+     4 caustic estimator, \
+     M water model, +/- amplitude, P pause, N step, H/L high/default preset, R reset camera, \
+     I settings, F12 screenshot, Esc quit";
+
+/// Radians the camera turns per pixel the cursor moves while looking.
+const LOOK_PER_PIXEL: f32 = 0.004;
+
+/// What the keyboard and mouse hold between events.
+pub(super) struct Input {
+    /// Keys held down, in the order they were pressed; `fly` moves by each.
+    keys_down: Vec<KeyCode>,
+    /// The right button is held: cursor motion turns the camera.
+    looking: bool,
+    /// Where the cursor was at its last motion while looking.
+    cursor: Option<(f64, f64)>,
+}
+
+impl Input {
+    pub(super) fn new() -> Self {
+        Self { keys_down: Vec::new(), looking: false, cursor: None }
+    }
+
+    /// The right button went down (start looking) or up (stop).
+    pub(super) fn look(&mut self, pressed: bool) {
+        self.looking = pressed;
+        self.cursor = None;
+    }
+
+    /// Turns the camera by the cursor's motion since its last position, while looking.
+    pub(super) fn cursor_moved(&mut self, x: f64, y: f64, camera: &mut FlyCamera) {
+        if self.looking {
+            if let Some((last_x, last_y)) = self.cursor {
+                let k = LOOK_PER_PIXEL;
+                camera.turn((x - last_x) as f32 * k, -(y - last_y) as f32 * k);
+            }
+            self.cursor = Some((x, y));
+        }
+    }
+
+    /// Moves the camera by the keys held, scaled by the time since the last frame.
+    pub(super) fn fly(&self, camera: &mut FlyCamera, dt: f32) {
+        let fast = self.keys_down.iter().any(|k| matches!(k, KeyCode::ShiftLeft | KeyCode::ShiftRight));
+        let speed = if fast { 4.0 } else { 1.0 } * dt;
+        let turn = 1.2 * dt;
+        for key in &self.keys_down {
+            match key {
+                KeyCode::KeyW => camera.translate(0.0, 0.0, speed),
+                KeyCode::KeyS => camera.translate(0.0, 0.0, -speed),
+                KeyCode::KeyD => camera.translate(speed, 0.0, 0.0),
+                KeyCode::KeyA => camera.translate(-speed, 0.0, 0.0),
+                KeyCode::KeyE => camera.translate(0.0, speed, 0.0),
+                KeyCode::KeyQ => camera.translate(0.0, -speed, 0.0),
+                KeyCode::ArrowLeft => camera.turn(-turn, 0.0),
+                KeyCode::ArrowRight => camera.turn(turn, 0.0),
+                KeyCode::ArrowUp => camera.turn(0.0, turn),
+                KeyCode::ArrowDown => camera.turn(0.0, -turn),
+                _ => {}
+            }
+        }
+    }
+}
+
+impl Live {
+    /// A key went down or up. Keys that change something act on every press, the window
+    /// system's repeats of a held key included.
+    pub(super) fn key(&mut self, code: KeyCode, pressed: bool, event_loop: &ActiveEventLoop) -> Result<()> {
+        let keys_down = &mut self.input.keys_down;
+        if !pressed {
+            keys_down.retain(|k| *k != code);
+            return Ok(());
+        }
+        if !keys_down.contains(&code) {
+            keys_down.push(code);
+        }
+        match code {
+            KeyCode::Escape => event_loop.exit(),
+            KeyCode::Digit1 => self.toggle(Effect::Caustics)?,
+            KeyCode::Digit2 => self.toggle(Effect::Godrays)?,
+            KeyCode::Digit3 => self.toggle(Effect::Filter)?,
+            KeyCode::Digit4 => self.next_estimator()?,
+            KeyCode::KeyM => self.next_water(),
+            KeyCode::Equal | KeyCode::NumpadAdd => self.scale_amplitude(1.25),
+            KeyCode::Minus | KeyCode::NumpadSubtract => self.scale_amplitude(0.8),
+            KeyCode::KeyP => self.view.paused = !self.view.paused,
+            KeyCode::KeyN => self.view.step_once = true,
+            KeyCode::KeyH => self.preset(Preset::High)?,
+            KeyCode::KeyL => self.preset(Preset::Default)?,
+            KeyCode::KeyR => self.view.camera = FlyCamera::from_camera(&self.view.loaded.camera),
+            KeyCode::KeyI => self.view.print_settings(),
+            KeyCode::F12 => {
+                self.pending_screenshot = Some(PathBuf::from(format!("out/screenshot-{}.png", self.frames_rendered)))
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    pub(super) fn toggle(&mut self, effect: Effect) -> Result<()> {
+        let e = &mut self.view.scene.effects;
+        let flag = match effect {
+            Effect::Caustics => &mut e.caustics,
+            Effect::Godrays => &mut e.godrays,
+            Effect::Filter => &mut e.filter,
+        };
+        *flag = !*flag;
+        println!("{effect:?}: {}", if *flag { "on" } else { "off" });
+        self.gpu.rebuild_current(&self.view.scene)
+    }
+
+    /// The next caustic estimator (paper's points, triangles). The triangles' geometry shader
+    /// takes at most TRIANGLE_MAX_SUBDIVISION; a finer subdivision is lowered to it.
+    pub(super) fn next_estimator(&mut self) -> Result<()> {
+        use crate::scene::CausticEstimator;
+        let e = &mut self.view.scene.effects;
+        e.caustic_estimator = match e.caustic_estimator {
+            CausticEstimator::Paper => CausticEstimator::Triangles,
+            CausticEstimator::Triangles => CausticEstimator::Paper,
+        };
+        let max = crate::shader_math::TRIANGLE_MAX_SUBDIVISION;
+        if e.caustic_estimator == CausticEstimator::Triangles && e.caustic_subdivision > max {
+            println!("caustic subdivision {} lowered to {max} for the triangle estimator", e.caustic_subdivision);
+            e.caustic_subdivision = max;
+        }
+        println!("caustic estimator: {}", e.caustic_estimator.name());
+        self.gpu.rebuild_current(&self.view.scene)
+    }
+
+    pub(super) fn preset(&mut self, preset: Preset) -> Result<()> {
+        let e = &mut self.view.scene.effects;
+        match preset {
+            // The paper's high setting: 1M caustic photons, 360k godray photons, small points.
+            Preset::High => {
+                e.caustic_grid = 500;
+                e.caustic_subdivision = 2;
+                e.godray_grid = 300;
+                e.godray_subdivision = 2;
+                e.point_size_min = 2.0;
+                e.point_size_max = 10.0;
+            }
+            Preset::Default => {
+                let d = &self.view.loaded.effects;
+                e.caustic_grid = d.caustic_grid;
+                e.caustic_subdivision = d.caustic_subdivision;
+                e.caustic_estimator = d.caustic_estimator;
+                e.godray_grid = d.godray_grid;
+                e.godray_subdivision = d.godray_subdivision;
+                e.point_size_min = d.point_size_min;
+                e.point_size_max = d.point_size_max;
+            }
+        }
+        println!("preset {preset:?}");
+        self.gpu.rebuild_current(&self.view.scene)
+    }
+
+    /// The other water model. The frame reads the water from the scene every frame, so
+    /// nothing is rebuilt (as for the amplitude).
+    pub(super) fn next_water(&mut self) {
+        let w = &mut self.view.scene.water;
+        w.model = match w.model {
+            WaterModel::CircularCosine => WaterModel::AxisCosineNoise,
+            WaterModel::AxisCosineNoise => WaterModel::CircularCosine,
+        };
+        println!("water model: {:?}", w.model);
+    }
+
+    pub(super) fn scale_amplitude(&mut self, factor: f32) {
+        let w = &mut self.view.scene.water;
+        w.amplitude = (w.amplitude * factor).clamp(0.0, w.wavelength);
+        println!("wave amplitude: {:.4} m", w.amplitude);
+    }
+}
+
+impl View {
+    fn print_settings(&self) {
+        let s = &self.scene;
+        let e = &s.effects;
+        println!(
+            "scene {:?}: camera {:.2} yaw {:.1}° pitch {:.1}°; water {:?} amplitude {} m; caustics {} ({}²×{}², {}), \
+             godrays {} ({}²×{}²), filter {}; points {}–{} px; time {:.2} s{}",
+            s.name,
+            self.camera.position,
+            self.camera.yaw.to_degrees(),
+            self.camera.pitch.to_degrees(),
+            s.water.model,
+            s.water.amplitude,
+            e.caustics,
+            e.caustic_grid,
+            e.caustic_subdivision,
+            e.caustic_estimator.name(),
+            e.godrays,
+            e.godray_grid,
+            e.godray_subdivision,
+            e.filter,
+            e.point_size_min,
+            e.point_size_max,
+            self.time,
+            if self.paused { " (paused)" } else { "" }
+        );
+    }
+}
