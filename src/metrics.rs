@@ -98,6 +98,100 @@ pub fn gap_fraction(image: &HdrImage) -> f64 {
     }
 }
 
+/// The radiance (W/(m²·sr), RGB) behind the compose pass's 8-bit sRGB output: the sRGB
+/// encoding and the tonemap `1 − e^(−exposure·L)` undone. A channel at 255 is read as 254.5,
+/// the brightest value the byte can stand for without being clipped.
+pub fn output_radiance(rgba8: &[u8], exposure: f32) -> Vec<[f32; 3]> {
+    let decode = |byte: u8| {
+        let v = (byte as f32).min(254.5) / 255.0;
+        let mapped = if v <= 0.04045 { v / 12.92 } else { ((v + 0.055) / 1.055).powf(2.4) };
+        -(1.0 - mapped).ln() / exposure
+    };
+    rgba8.chunks_exact(4).map(|p| [decode(p[0]), decode(p[1]), decode(p[2])]).collect()
+}
+
+/// How far a composed image is from the same frame composed from full-resolution effect
+/// buffers, near edges and overall. Low-resolution effect buffers upsampled across a depth
+/// edge bleed one side's light onto the other (a halo); the error near the strongest edges
+/// shows it, the whole-image figure shows what it costs elsewhere.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct EdgeError {
+    /// √(mean (test − ref)²) / mean ref over the pixels within `EDGE_BAND` px of an edge.
+    pub near_edges: f64,
+    /// The same over every pixel.
+    pub whole: f64,
+    /// How many pixels the edge band holds.
+    pub edge_pixels: usize,
+}
+
+/// The edge band's half width, px: pixels within this Chebyshev distance of an edge pixel.
+pub const EDGE_BAND: i64 = 3;
+/// The edges: the pixels whose gradient of the reference's luminance is in its top 5 %.
+pub const EDGE_QUANTILE: f64 = 0.95;
+
+/// `test` against `reference` (linear RGB, `width`×`height`, rows from the top). Edges are the
+/// reference's: where its luminance's Sobel gradient is in the top `1 − EDGE_QUANTILE`.
+pub fn edge_error(test: &[[f32; 3]], reference: &[[f32; 3]], width: usize, height: usize) -> Result<EdgeError> {
+    if test.len() != width * height || reference.len() != width * height {
+        bail!("edge error: {} and {} pixels for a {width}×{height} image", test.len(), reference.len());
+    }
+    if width < 3 || height < 3 {
+        bail!("edge error: a {width}×{height} image has no interior to find edges in");
+    }
+    let luminance: Vec<f64> =
+        reference.iter().map(|p| 0.2126 * p[0] as f64 + 0.7152 * p[1] as f64 + 0.0722 * p[2] as f64).collect();
+    let at = |x: usize, y: usize| luminance[y * width + x];
+    let mut gradient = vec![0.0f64; width * height];
+    for y in 1..height - 1 {
+        for x in 1..width - 1 {
+            let gx = at(x + 1, y - 1) + 2.0 * at(x + 1, y) + at(x + 1, y + 1)
+                - at(x - 1, y - 1)
+                - 2.0 * at(x - 1, y)
+                - at(x - 1, y + 1);
+            let gy = at(x - 1, y + 1) + 2.0 * at(x, y + 1) + at(x + 1, y + 1)
+                - at(x - 1, y - 1)
+                - 2.0 * at(x, y - 1)
+                - at(x + 1, y - 1);
+            gradient[y * width + x] = gx.hypot(gy);
+        }
+    }
+    let mut sorted = gradient.clone();
+    sorted.sort_by(f64::total_cmp);
+    let threshold = sorted[((sorted.len() - 1) as f64 * EDGE_QUANTILE) as usize];
+    let mut band = vec![false; width * height];
+    for y in 0..height as i64 {
+        for x in 0..width as i64 {
+            let g = gradient[y as usize * width + x as usize];
+            if g <= threshold || g == 0.0 {
+                continue;
+            }
+            for by in (y - EDGE_BAND).max(0)..=(y + EDGE_BAND).min(height as i64 - 1) {
+                for bx in (x - EDGE_BAND).max(0)..=(x + EDGE_BAND).min(width as i64 - 1) {
+                    band[by as usize * width + bx as usize] = true;
+                }
+            }
+        }
+    }
+    let error = |inside: &dyn Fn(usize) -> bool| -> Result<(f64, usize)> {
+        let (mut sq, mut sum, mut n) = (0.0f64, 0.0f64, 0usize);
+        for (t, r) in test.iter().zip(reference).enumerate().filter(|(i, _)| inside(*i)).map(|(_, p)| p) {
+            for c in 0..3 {
+                sq += (t[c] as f64 - r[c] as f64).powi(2);
+                sum += r[c] as f64;
+            }
+            n += 1;
+        }
+        if n == 0 || !(sum > 0.0) {
+            bail!("edge error: the reference is black where it is measured ({n} pixels)");
+        }
+        let samples = (3 * n) as f64;
+        Ok(((sq / samples).sqrt() / (sum / samples), n))
+    };
+    let (near_edges, edge_pixels) = error(&|i| band[i])?;
+    let (whole, _) = error(&|_| true)?;
+    Ok(EdgeError { near_edges, whole, edge_pixels })
+}
+
 /// Frame-to-frame change of one buffer: √(mean (b − a)²) / mean of both. Measured for the
 /// GPU and for the reference at the same two times, the GPU's excess over the reference's is
 /// flicker the method adds (photons jumping between pixels, splats popping at map texels).

@@ -4,6 +4,7 @@
 //! - `FrameUniforms`: the frame's parameter block, field for field with `glsl/shared/frame.glsl`
 //!   (std430; a test below fails on any difference in a name or an offset). How each field
 //!   is computed for a frame is `frame::uniforms`.
+//! - `limits`: the photon geometry shaders' subdivision bounds, passed to `glsl/` as macros.
 //! - `bindings`: the descriptor binding numbers, defined only here; the shader compiler passes
 //!   each to `glsl/` as a `BINDING_<NAME>` macro (`shaders::compile_all`).
 
@@ -100,6 +101,31 @@ frame_uniforms! {
     photon_window_size: [f32; 2],
 }
 const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 4 * 64 + 16 * 17);
+
+/// Geometry-shader output bounds, defined here only: the shader compiler passes each to
+/// `glsl/` as a macro of the same name (`shaders::compile_all`). A shader's `max_vertices` is
+/// a literal that must cover its bound (each geometry shader says how it derives its own).
+pub mod limits {
+    /// Largest per-axis photon subdivision one geometry-shader invocation emits (GLSL
+    /// `MAX_SUBDIVISION`; the geometry shader's `max_vertices` is its square).
+    pub const MAX_SUBDIVISION: u32 = 8;
+
+    /// Largest subdivision of the triangle estimator (GLSL `TRIANGLE_MAX_SUBDIVISION`): at 3 an
+    /// invocation emits at most 112 vertices of 8 components, 896 of the 1024 every
+    /// geometry-shader device offers (the bound is derived in caustics_triangles.geom).
+    pub const TRIANGLE_MAX_SUBDIVISION: u32 = 3;
+
+    /// Largest godray subdivision: each photon emits a 2-vertex line of 12 components, and
+    /// 2 × 6² × 12 = 864 stays within the 1024 output components every geometry-shader device
+    /// offers (`max_vertices = 72` in godrays.geom).
+    pub const GODRAY_MAX_SUBDIVISION: u32 = 6;
+    /// Every bound by its macro name, for the shader compiler.
+    pub const ALL: &[(&str, u32)] = &[
+        ("MAX_SUBDIVISION", MAX_SUBDIVISION),
+        ("TRIANGLE_MAX_SUBDIVISION", TRIANGLE_MAX_SUBDIVISION),
+        ("GODRAY_MAX_SUBDIVISION", GODRAY_MAX_SUBDIVISION),
+    ];
+}
 
 /// Binding numbers of the frame's descriptor set, defined here only: the shader compiler gets
 /// each as the macro `BINDING_<NAME>` (`shaders::compile_all`), which `glsl/` uses.

@@ -4,19 +4,8 @@
 use glam::{UVec2, Vec2, Vec3, Vec3Swizzles};
 use std::f32::consts::PI;
 
-/// Largest per-axis photon subdivision one geometry-shader invocation emits (GLSL
-/// `MAX_SUBDIVISION`; the geometry shader's `max_vertices` is its square).
-pub const MAX_SUBDIVISION: u32 = 8;
-
-/// Largest subdivision of the triangle estimator (GLSL `TRIANGLE_MAX_SUBDIVISION`): at 3 an
-/// invocation emits at most 112 vertices of 8 components, 896 of the 1024 every
-/// geometry-shader device offers (the bound is derived in caustics_triangles.geom).
-pub const TRIANGLE_MAX_SUBDIVISION: u32 = 3;
-
-/// Largest godray subdivision: each photon emits a 2-vertex line of 12 components, and
-/// 2 × 6² × 12 = 864 stays within the 1024 output components every geometry-shader device
-/// offers (`max_vertices = 72` in godrays.geom).
-pub const GODRAY_MAX_SUBDIVISION: u32 = 6;
+/// The photon passes' subdivision bounds are part of the shader interface (`shader_abi::limits`).
+pub use crate::shader_abi::limits::{GODRAY_MAX_SUBDIVISION, MAX_SUBDIVISION, TRIANGLE_MAX_SUBDIVISION};
 
 /// See `photon_grid_uv` in shader_math.glsl.
 pub fn photon_grid_uv(cell: UVec2, sub: UVec2, subdiv: u32, grid: UVec2) -> Vec2 {

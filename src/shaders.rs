@@ -163,6 +163,10 @@ fn compile_options<'a>(glsl_dir: &Path, defines: &[&str]) -> Result<shaderc::Com
     for (name, number) in crate::shader_abi::bindings::ALL {
         options.add_macro_definition(&format!("BINDING_{name}"), Some(&number.to_string()));
     }
+    // And the geometry shaders' bounds, from shader_abi::limits, under their own names.
+    for (name, value) in crate::shader_abi::limits::ALL {
+        options.add_macro_definition(name, Some(&value.to_string()));
+    }
     for define in defines {
         options.add_macro_definition(define, None);
     }

@@ -5,13 +5,11 @@
 
 const float PI = 3.14159265358979;
 
-// Largest per-axis photon subdivision a geometry shader invocation emits. max_vertices must
-// be a compile-time literal, so the shader is compiled for this bound and the actual factor is
-// a specialization constant the driver unrolls at pipeline creation.
-const int MAX_SUBDIVISION = 8;
-// The triangle estimator's bound (caustics_triangles.geom): its output per mesh cell is
-// larger, and 3 keeps it within the 1024 output components every such device offers.
-const int TRIANGLE_MAX_SUBDIVISION = 3;
+// MAX_SUBDIVISION, TRIANGLE_MAX_SUBDIVISION and GODRAY_MAX_SUBDIVISION, the largest per-axis
+// photon subdivision a geometry-shader invocation emits, are macros from shader_abi::limits
+// (their one definition). max_vertices must be a compile-time literal, so each shader is
+// compiled for its bound and the actual factor is a specialization constant the driver
+// unrolls at pipeline creation.
 
 // Position in [0,1]^2 (light clip space mapped to texture space) of photon `sub` of coarse
 // cell `cell` in a `grid` photon grid subdivided `subdiv`×`subdiv`: the centres of the

@@ -3,6 +3,7 @@
 
 mod bench;
 mod devices;
+mod edges;
 mod grid_splat;
 mod reference;
 mod render;
@@ -48,6 +49,9 @@ enum Command {
     /// The speed–accuracy trade: every combination of the given settings, each one's GPU time
     /// and its error against the reference; writes CSV, a Markdown table and the Pareto plot.
     Sweep(sweep::SweepArgs),
+    /// What the low-resolution effect buffers cost at object edges: the scene as set against
+    /// the same frame with its caustic and godray targets at full resolution.
+    Edges(edges::EdgesArgs),
 }
 
 fn context_desc(cli: &Cli) -> ContextDesc {
@@ -69,6 +73,7 @@ pub(crate) fn run(cli: Cli) -> Result<i32> {
         Command::View(args) => view::run(&cli, args),
         Command::Bench(args) => bench::run(&cli, args),
         Command::GridSplat(args) => grid_splat::run(&cli, args),
+        Command::Edges(args) => edges::run(&cli, args),
     }
 }
 
@@ -142,5 +147,5 @@ fn finish(ctx: Context) -> i32 {
 /// The exposure of the effect buffers' PNGs (`reference`, `render --hdr`): the compose
 /// pass's, which shows the surface irradiance on a white receiver at mid grey.
 fn effect_png_exposure(scene: &underlight::scene::Scene) -> f32 {
-    2.0 * std::f32::consts::PI / underlight::frame::uniforms::surface_irradiance(scene)
+    underlight::frame::uniforms::tonemap_exposure(scene)
 }

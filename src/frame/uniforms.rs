@@ -246,6 +246,12 @@ pub fn surface_irradiance(scene: &Scene) -> f32 {
     }
 }
 
+/// The tonemap's exposure, 1/(W/(m²·sr)): 2π / E_surface, so a diffuse receiver of albedo 1
+/// lit by the surface's irradiance maps to 1 − e^(−2) (compose.frag's `1 − e^(−exposure·L)`).
+pub fn tonemap_exposure(scene: &Scene) -> f32 {
+    2.0 * std::f32::consts::PI / surface_irradiance(scene).max(1e-12)
+}
+
 /// Fraction of the direct irradiance that arrives as diffuse sky light (ambient under water).
 pub const AMBIENT_FRACTION: f32 = 0.1;
 
@@ -266,7 +272,7 @@ impl FrameUniforms {
             LightKind::Point => (1.0, scene.light.intensity),
         };
         let surface_irradiance = surface_irradiance(scene);
-        let exposure = 2.0 * std::f32::consts::PI / surface_irradiance.max(1e-12);
+        let exposure = tonemap_exposure(scene);
         let model = w.model.glsl_id() as f32;
         let m = &scene.medium;
         let photon_window = photon_window(scene, &light);
