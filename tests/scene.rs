@@ -297,7 +297,7 @@ fn the_freshness_check_reports_changed_missing_and_orphan_files() {
     assert!(generate::stale_builtin_assets(&dir).unwrap().is_empty());
     let scenes = dir.join("scenes");
     let toml = std::fs::read_to_string(scenes.join("tank.toml")).unwrap();
-    std::fs::write(scenes.join("tank.toml"), toml.replace("intensity = 9.200", "intensity = 9.300")).unwrap();
+    std::fs::write(scenes.join("tank.toml"), toml.replace("intensity = 9.2\n", "intensity = 9.3\n")).unwrap();
     std::fs::remove_file(scenes.join("port.mtl")).unwrap();
     std::fs::write(scenes.join("extra.obj"), "v 0 0 0\n").unwrap();
     let stale = generate::stale_builtin_assets(&dir).unwrap();

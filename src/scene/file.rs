@@ -3,17 +3,21 @@
 //! A scene file names its OBJ meshes (relative to the file), the camera, the light, the water
 //! surface, the medium and the effect settings; see `assets/scenes/*.toml` for complete
 //! examples. Parsing is strict: unknown fields, fields that do not apply (a `position` on a
-//! directional light), wrong types and values outside their documented range (NaN and ±inf
-//! included, which TOML allows) are errors that name the file, the line, the field as a
-//! dotted path (`water.wavelength`, `objects[1].scale`) and the allowed range.
+//! directional light), wrong types and array lengths, and values outside their documented
+//! range (NaN and ±inf included, which TOML allows) are errors that name the file, the line,
+//! the field as a dotted path (`water.wavelength`, `objects[1].scale`) and the allowed range.
 
 use super::{Camera, CausticEstimator, Effects, Light, LightKind, Medium, Mesh, Scene, Water, WaterModel};
 use anyhow::{anyhow, bail, Context as _, Result};
 use glam::{Mat3, Vec2, Vec3};
-use serde::de::{self, Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
+use serde::de::value::{MapDeserializer, SeqDeserializer};
+use serde::de::{self, Deserializer, IntoDeserializer, SeqAccess, Unexpected, Visitor};
+use serde::{Deserialize, Serialize};
+use serde_path_to_error::Segment;
 use std::fmt;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
+use toml_edit::{ImDocument, Item, Table, Value};
 
 /// The scenes shipped in `assets/scenes/`, loadable by name.
 pub const BUILTIN_SCENES: &[&str] = &["tank", "port", "storage"];
@@ -65,143 +69,152 @@ pub fn load(name_or_path: &str) -> Result<Scene> {
 /// Parses scene TOML text; `origin` is the file path used in error messages and as the base
 /// directory for relative OBJ paths.
 pub fn load_str(text: &str, origin: &Path) -> Result<Scene> {
-    let ctx = Context::new(text, origin);
-    let file: SceneFile = toml::from_str(text).map_err(|e| ctx.toml_error(&e))?;
+    let doc = ImDocument::parse(text).map_err(|e| {
+        let message = e.message().trim().replace('\n', "; ");
+        anyhow!("{}: {message}", position(text, origin, e.span()))
+    })?;
+    let ctx = Context { text, origin, doc };
+    let file: SceneFile =
+        serde_path_to_error::deserialize(Node::Table(ctx.doc.as_table())).map_err(|e| ctx.schema_error(e))?;
     file.validate(&ctx)
 }
 
 // ---------------------------------------------------------------------------------------------
-// The file's shape. Every struct denies unknown fields so that a typo is an error rather than
-// a silently ignored setting; optional fields are `Option` so that "absent" can be told apart
-// from "present but not applicable" (light fields) and defaults live in one place.
+// The file's shape: what `load` reads and what the generator (`generate.rs`) builds and
+// serializes, so the two cannot drift apart. Every struct denies unknown fields so that a typo
+// is an error rather than a silently ignored setting; optional fields are `Option` so that
+// "absent" can be told apart from "present but not applicable" (light fields) and defaults
+// live in one place. Numbers are f64, as TOML holds them: the generator's values are written
+// as they are (an f32 0.05 would be written 0.05000000074505806), and validation narrows them
+// to the renderer's f32 before checking their range.
 
-#[derive(serde::Deserialize)]
+#[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-struct SceneFile {
-    name: String,
-    output: Option<OutputFile>,
-    objects: Vec<ObjectFile>,
-    camera: CameraFile,
-    light: LightFile,
-    water: WaterFile,
-    medium: Option<MediumFile>,
-    effects: Option<EffectsFile>,
+pub(super) struct SceneFile {
+    pub name: String,
+    pub output: Option<OutputFile>,
+    pub objects: Vec<ObjectFile>,
+    pub camera: CameraFile,
+    pub light: LightFile,
+    pub water: WaterFile,
+    pub medium: Option<MediumFile>,
+    pub effects: Option<EffectsFile>,
 }
 
-/// The top-level keys, so that a missing-field error is attributed to the root table
-/// rather than to whichever table happens to share its span (see `Context::toml_error`).
-const TOP_LEVEL_FIELDS: &[&str] = &["name", "output", "objects", "camera", "light", "water", "medium", "effects"];
-
-#[derive(serde::Deserialize)]
+#[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-struct OutputFile {
-    width: u32,
-    height: u32,
+pub(super) struct OutputFile {
+    pub width: u32,
+    pub height: u32,
 }
 
-#[derive(serde::Deserialize)]
+#[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-struct ObjectFile {
-    obj: String,
-    translate: Option<[f32; 3]>,
-    rotate_y_degrees: Option<f32>,
-    scale: Option<f32>,
+pub(super) struct ObjectFile {
+    pub obj: String,
+    pub translate: Option<[f64; 3]>,
+    pub rotate_y_degrees: Option<f64>,
+    pub scale: Option<f64>,
 }
 
-#[derive(serde::Deserialize)]
+#[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-struct CameraFile {
-    position: [f32; 3],
-    look_at: [f32; 3],
-    fov_y_degrees: f32,
-    z_near: f32,
-    z_far: f32,
+pub(super) struct CameraFile {
+    pub position: [f64; 3],
+    pub look_at: [f64; 3],
+    pub fov_y_degrees: f64,
+    pub z_near: f64,
+    pub z_far: f64,
 }
 
-#[derive(serde::Deserialize)]
+#[derive(Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
-enum LightKindFile {
+pub(super) enum LightKindFile {
     Directional,
     Point,
 }
 
-#[derive(serde::Deserialize)]
+#[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-struct LightFile {
-    kind: LightKindFile,
-    direction: Option<[f32; 3]>,
-    position: Option<[f32; 3]>,
-    intensity: f32,
-    distance: Option<f32>,
+pub(super) struct LightFile {
+    pub kind: LightKindFile,
+    pub direction: Option<[f64; 3]>,
+    pub position: Option<[f64; 3]>,
+    pub intensity: f64,
+    pub distance: Option<f64>,
 }
 
-#[derive(serde::Deserialize)]
+#[derive(Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
-enum WaterModelFile {
+pub(super) enum WaterModelFile {
     CircularCosine,
     AxisCosineNoise,
 }
 
-#[derive(serde::Deserialize)]
+#[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-struct WaterFile {
-    model: WaterModelFile,
-    level: f32,
-    amplitude: f32,
-    wavelength: f32,
-    speed: f32,
-    noise_amplitude: f32,
-    noise_scale: f32,
-    center: Option<[f32; 2]>,
-    extent_min: [f32; 2],
-    extent_max: [f32; 2],
-    ior: Option<f32>,
+pub(super) struct WaterFile {
+    pub model: WaterModelFile,
+    pub level: f64,
+    pub amplitude: f64,
+    pub wavelength: f64,
+    pub speed: f64,
+    pub noise_amplitude: f64,
+    pub noise_scale: f64,
+    pub center: Option<[f64; 2]>,
+    pub extent_min: [f64; 2],
+    pub extent_max: [f64; 2],
+    pub ior: Option<f64>,
 }
 
-#[derive(serde::Deserialize)]
+#[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-struct MediumFile {
-    gamma: Option<Gamma>,
-    scattering: Option<f32>,
-    hg_g: Option<f32>,
+pub(super) struct MediumFile {
+    pub gamma: Option<Gamma>,
+    pub scattering: Option<f64>,
+    pub hg_g: Option<f64>,
 }
 
-#[derive(serde::Deserialize, Clone, Copy)]
+#[derive(Serialize, Deserialize, Clone, Copy)]
 #[serde(rename_all = "kebab-case")]
-enum CausticEstimatorFile {
+pub(super) enum CausticEstimatorFile {
     Paper,
     Triangles,
 }
 
-#[derive(serde::Deserialize)]
+#[derive(Serialize, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
-struct EffectsFile {
-    caustics: Option<bool>,
-    godrays: Option<bool>,
-    filter: Option<bool>,
-    caustic_grid: Option<u32>,
-    caustic_subdivision: Option<u32>,
-    caustic_estimator: Option<CausticEstimatorFile>,
-    godray_grid: Option<u32>,
-    godray_subdivision: Option<u32>,
-    caustic_target_scale: Option<f32>,
-    godray_target_scale: Option<f32>,
-    point_size_min: Option<f32>,
-    point_size_max: Option<f32>,
-    line_width: Option<f32>,
-    iterations: Option<u32>,
-    shadow_map_size: Option<u32>,
+pub(super) struct EffectsFile {
+    pub caustics: Option<bool>,
+    pub godrays: Option<bool>,
+    pub filter: Option<bool>,
+    // Ahead of the grid and subdivision, whose limits it sets (and under the built-in scenes'
+    // comment about it).
+    pub caustic_estimator: Option<CausticEstimatorFile>,
+    pub caustic_grid: Option<u32>,
+    pub caustic_subdivision: Option<u32>,
+    pub godray_grid: Option<u32>,
+    pub godray_subdivision: Option<u32>,
+    pub caustic_target_scale: Option<f64>,
+    pub godray_target_scale: Option<f64>,
+    pub point_size_min: Option<f64>,
+    pub point_size_max: Option<f64>,
+    pub line_width: Option<f64>,
+    pub iterations: Option<u32>,
+    pub shadow_map_size: Option<u32>,
 }
 
-/// `medium.gamma`: one coefficient for all channels, or `[r, g, b]`. Hand-written rather than
-/// an untagged enum so that a wrong array length gets a precise message instead of serde's
-/// "did not match any variant".
-struct Gamma {
-    rgb: [f32; 3],
-    /// Written as `[r, g, b]` (errors then name the component).
-    array: bool,
+/// `medium.gamma`: one coefficient for all channels, or `[r, g, b]` (errors then name the
+/// component).
+#[derive(Serialize)]
+#[serde(untagged)]
+pub(super) enum Gamma {
+    Uniform(f64),
+    Rgb([f64; 3]),
 }
 
+/// Hand-written rather than derived (untagged) so that a wrong array length gets a precise
+/// message instead of serde's "did not match any variant".
 impl<'de> Deserialize<'de> for Gamma {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
         struct GammaVisitor;
@@ -211,22 +224,22 @@ impl<'de> Deserialize<'de> for Gamma {
                 f.write_str("a number or an array of 3 numbers [r, g, b]")
             }
             fn visit_f64<E: de::Error>(self, v: f64) -> Result<Gamma, E> {
-                Ok(Gamma { rgb: [v as f32; 3], array: false })
+                Ok(Gamma::Uniform(v))
             }
             fn visit_i64<E: de::Error>(self, v: i64) -> Result<Gamma, E> {
-                Ok(Gamma { rgb: [v as f32; 3], array: false })
+                Ok(Gamma::Uniform(v as f64))
             }
             fn visit_u64<E: de::Error>(self, v: u64) -> Result<Gamma, E> {
-                Ok(Gamma { rgb: [v as f32; 3], array: false })
+                Ok(Gamma::Uniform(v as f64))
             }
             fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Gamma, A::Error> {
                 let mut rgb = Vec::with_capacity(3);
-                while let Some(c) = seq.next_element::<f32>()? {
+                while let Some(c) = seq.next_element::<f64>()? {
                     rgb.push(c);
                 }
                 let len = rgb.len();
                 let rgb = rgb.try_into().map_err(|_| de::Error::invalid_length(len, &GammaVisitor))?;
-                Ok(Gamma { rgb, array: true })
+                Ok(Gamma::Rgb(rgb))
             }
         }
         deserializer.deserialize_any(GammaVisitor)
@@ -234,46 +247,88 @@ impl<'de> Deserialize<'de> for Gamma {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Error context: where each field sits in the text, so that every error can name the line and
-// the dotted path of the field.
+// Reading the file: toml_edit parses it (syntax errors, and the span of every key and value),
+// serde's derived code checks its shape against the structs above, and serde_path_to_error
+// tracks the dotted path of the field that failed. The document is handed to serde through
+// serde's own value deserializers rather than toml's deserializer because toml's error keeps
+// only a message: `SchemaError` keeps the unknown or missing field's name and the allowed
+// names apart, so messages name the field by its full path without reading serde's wording.
 
-/// The text being loaded, its file name, and the span of every value in it by dotted path.
+/// The text being loaded, its file name, and its parsed document (for the line of a field).
 struct Context<'a> {
     text: &'a str,
     origin: &'a Path,
-    /// (dotted path, byte span of the value). Empty when the text could not be indexed.
-    spans: Vec<(String, Range<usize>)>,
+    doc: ImDocument<&'a str>,
 }
 
-impl<'a> Context<'a> {
-    fn new(text: &'a str, origin: &'a Path) -> Self {
-        // toml reports spans but not key paths, so index the document once more as an untyped
-        // tree of spanned values. This fails for constructs the index cannot span (dotted keys
-        // such as `water.level = 0`, dates); errors then name the line and column only.
-        let mut spans = Vec::new();
-        if let Ok(root) = toml::from_str::<toml::Spanned<SpanTree>>(text) {
-            root.get_ref().collect("", &mut spans);
+/// One step of a field's path: a key, or an index into an array.
+#[derive(Clone, Copy)]
+enum Step<'p> {
+    Key(&'p str),
+    Index(usize),
+}
+
+/// The steps of a path as validation writes it: `camera.z_far`, `objects[1].scale`,
+/// `water.extent_max[0]`.
+fn steps(path: &str) -> Vec<Step<'_>> {
+    let mut steps = Vec::new();
+    for part in path.split('.') {
+        let mut pieces = part.split('[');
+        steps.extend(pieces.next().map(Step::Key));
+        steps.extend(pieces.filter_map(|index| index.strip_suffix(']')?.parse().ok()).map(Step::Index));
+    }
+    steps
+}
+
+/// 1-based line and column (in characters) of a byte offset.
+fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let mut offset = offset.min(text.len());
+    while !text.is_char_boundary(offset) {
+        offset -= 1;
+    }
+    let before = &text[..offset];
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, column)
+}
+
+/// `file:line:column` of a span, or just `file` without one.
+fn position(text: &str, origin: &Path, span: Option<Range<usize>>) -> String {
+    match span {
+        Some(span) => {
+            let (line, column) = line_col(text, span.start);
+            format!("{}:{line}:{column}", origin.display())
         }
-        Self { text, origin, spans }
+        None => origin.display().to_string(),
+    }
+}
+
+impl Context<'_> {
+    /// The span of the value at `path`, or of the key that names it when `key` is set. None
+    /// when the path is not in the document (an absent field).
+    fn span<'p>(&self, path: impl IntoIterator<Item = Step<'p>>, key: bool) -> Option<Range<usize>> {
+        let mut item = self.doc.as_item();
+        let mut key_span = None;
+        for step in path {
+            item = match step {
+                Step::Key(name) => {
+                    key_span = item.as_table_like()?.key(name)?.span();
+                    item.get(name)?
+                }
+                Step::Index(i) => item.get(i)?,
+            };
+        }
+        if key {
+            key_span
+        } else {
+            item.span()
+        }
     }
 
-    /// 1-based line and column (in characters) of a byte offset.
-    fn line_col(&self, offset: usize) -> (usize, usize) {
-        let mut offset = offset.min(self.text.len());
-        while !self.text.is_char_boundary(offset) {
-            offset -= 1;
-        }
-        let before = &self.text[..offset];
-        let line = before.matches('\n').count() + 1;
-        let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
-        (line, column)
-    }
-
-    /// `file:line` for a field, or just `file` when the field has no known position (absent,
-    /// or the text could not be indexed).
+    /// `file:line` for a field, or just `file` when the field is not in the document.
     fn at(&self, path: &str) -> String {
-        match self.spans.iter().find(|(p, _)| p == path) {
-            Some((_, span)) => format!("{}:{}", self.origin.display(), self.line_col(span.start).0),
+        match self.span(steps(path), false) {
+            Some(span) => format!("{}:{}", self.origin.display(), line_col(self.text, span.start).0),
             None => self.origin.display().to_string(),
         }
     }
@@ -283,140 +338,190 @@ impl<'a> Context<'a> {
         anyhow!("{}: {path} {message}", self.at(path))
     }
 
-    /// Rewrites a toml/serde error so that it names the field by its dotted path.
-    fn toml_error(&self, e: &toml::de::Error) -> anyhow::Error {
-        let message = e.message().trim().replace('\n', "; ");
-        let Some(span) = e.span() else {
-            return anyhow!("{}: {message}", self.origin.display());
-        };
-        let (line, column) = self.line_col(span.start);
-        let at = format!("{}:{line}:{column}", self.origin.display());
-        // The innermost indexed value whose span holds the error's span is the field (type
-        // errors: the value), or the table the field belongs to (unknown field: the key;
-        // missing field: the table).
-        let owner = self
-            .spans
+    /// A schema error (unknown or missing field, wrong type), naming the field by its path.
+    fn schema_error(&self, e: serde_path_to_error::Error<SchemaError>) -> anyhow::Error {
+        // Paths hold keys and indices only: the schema's enums are plain strings.
+        let path: Option<Vec<Step>> = e
+            .path()
             .iter()
-            .filter(|(_, s)| s.start <= span.start && span.end <= s.end)
-            // On a tie (the only table of an array of tables spans the same text as the
-            // array) the deeper path is the more precise one.
-            .min_by_key(|(p, s)| (s.end - s.start, std::cmp::Reverse(p.len())))
-            .map(|(p, _)| p.as_str());
-        let join =
-            |table: &str, field: &str| if table.is_empty() { field.to_owned() } else { format!("{table}.{field}") };
-        if let Some(rest) = message.strip_prefix("unknown field `") {
-            if let Some((field, expected)) = rest.split_once('`') {
-                let mut table = owner.unwrap_or("");
-                // The key of a table header (`[lights]`) lies inside the table it opens; it
-                // belongs to that table's parent. (Unless the table really holds a key of its
-                // own name, `[water]` then `water = 1`, which the index shows.)
-                if let Some(parent) = parent_if_named(table, field) {
-                    if !self.spans.iter().any(|(p, _)| *p == join(table, field)) {
-                        table = parent;
-                    }
-                }
-                let path = join(table, field);
-                let expected = expected.trim_start_matches(',').trim();
-                return anyhow!("{at}: unknown field `{path}` ({expected})");
+            .map(|segment| match segment {
+                Segment::Map { key } => Some(Step::Key(key)),
+                Segment::Seq { index } => Some(Step::Index(*index)),
+                Segment::Enum { .. } | Segment::Unknown => None,
+            })
+            .collect();
+        // (serde_path_to_error writes the root as ".")
+        let dotted = if e.path().iter().next().is_none() { String::new() } else { e.path().to_string() };
+        let at =
+            |key: bool| position(self.text, self.origin, path.as_ref().and_then(|p| self.span(p.iter().copied(), key)));
+        match e.inner() {
+            // The path ends with the unknown key; the error is at the key.
+            SchemaError::UnknownField { expected, .. } => {
+                anyhow!("{}: unknown field `{dotted}` (expected {})", at(true), one_of(expected))
             }
-        }
-        if let Some(rest) = message.strip_prefix("missing field `") {
-            if let Some((field, _)) = rest.split_once('`') {
-                // A missing top-level field is reported on the whole document's span, which a
-                // table at the start of the file may share.
-                let table = if TOP_LEVEL_FIELDS.contains(&field) { "" } else { owner.unwrap_or("") };
-                return anyhow!("{}: missing required field `{}`", self.origin.display(), join(table, field));
+            // The path is the table's; the field has no position of its own.
+            SchemaError::MissingField(field) => {
+                let field = if dotted.is_empty() { field.to_string() } else { format!("{dotted}.{field}") };
+                anyhow!("{}: missing required field `{field}`", self.origin.display())
             }
-        }
-        match owner {
-            Some(path) => anyhow!("{at}: {path}: {message}"),
-            None => anyhow!("{at}: {message}"),
+            SchemaError::Other(message) if dotted.is_empty() => anyhow!("{}: {message}", at(false)),
+            SchemaError::Other(message) => anyhow!("{}: {dotted}: {message}", at(false)),
         }
     }
 }
 
-/// If the last key of `path` (ignoring array indices) is `key`, the path of its parent.
-fn parent_if_named<'p>(path: &'p str, key: &str) -> Option<&'p str> {
-    let mut base = path;
-    while base.ends_with(']') {
-        base = &base[..base.rfind('[')?];
+/// "one of `a`, `b`".
+fn one_of(names: &[&str]) -> String {
+    let names: Vec<String> = names.iter().map(|name| format!("`{name}`")).collect();
+    format!("one of {}", names.join(", "))
+}
+
+/// A schema error as serde reports it, with the field names kept apart from the message.
+#[derive(Debug)]
+enum SchemaError {
+    UnknownField { field: String, expected: &'static [&'static str] },
+    MissingField(&'static str),
+    Other(String),
+}
+
+impl de::Error for SchemaError {
+    fn custom<T: fmt::Display>(message: T) -> Self {
+        SchemaError::Other(message.to_string())
     }
-    if base == key {
-        Some("")
-    } else {
-        base.strip_suffix(key)?.strip_suffix('.')
+    fn unknown_field(field: &str, expected: &'static [&'static str]) -> Self {
+        SchemaError::UnknownField { field: field.to_owned(), expected }
+    }
+    fn missing_field(field: &'static str) -> Self {
+        SchemaError::MissingField(field)
     }
 }
 
-/// An untyped TOML value with the span of every value in it, for `Context`.
-enum SpanTree {
-    Table(Vec<(String, toml::Spanned<SpanTree>)>),
-    Array(Vec<toml::Spanned<SpanTree>>),
-    Scalar,
-}
-
-impl SpanTree {
-    fn collect(&self, path: &str, out: &mut Vec<(String, Range<usize>)>) {
+impl fmt::Display for SchemaError {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
         match self {
-            SpanTree::Table(entries) => {
-                for (key, value) in entries {
-                    let child = if path.is_empty() { key.clone() } else { format!("{path}.{key}") };
-                    out.push((child.clone(), value.span()));
-                    value.get_ref().collect(&child, out);
-                }
-            }
-            SpanTree::Array(items) => {
-                for (i, value) in items.iter().enumerate() {
-                    let child = format!("{path}[{i}]");
-                    out.push((child.clone(), value.span()));
-                    value.get_ref().collect(&child, out);
-                }
-            }
-            SpanTree::Scalar => {}
+            SchemaError::UnknownField { field, .. } => write!(f, "unknown field `{field}`"),
+            SchemaError::MissingField(field) => write!(f, "missing field `{field}`"),
+            SchemaError::Other(message) => f.write_str(message),
         }
     }
 }
 
-impl<'de> Deserialize<'de> for SpanTree {
-    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        struct TreeVisitor;
-        impl<'de> Visitor<'de> for TreeVisitor {
-            type Value = SpanTree;
-            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str("any TOML value")
+impl std::error::Error for SchemaError {}
+
+/// A node of the parsed document, as serde input. Tables become maps and arrays sequences
+/// through serde's value deserializers; both check that every entry was consumed, so a fourth
+/// component of a `[x, y, z]` is an error rather than dropped.
+#[derive(Clone, Copy)]
+enum Node<'a> {
+    Item(&'a Item),
+    Table(&'a Table),
+    Value(&'a Value),
+}
+
+impl<'de> Deserializer<'de> for Node<'_> {
+    type Error = SchemaError;
+
+    fn deserialize_any<V: Visitor<'de>>(self, visitor: V) -> Result<V::Value, SchemaError> {
+        match self {
+            Node::Item(Item::Table(table)) | Node::Table(table) => {
+                visit_map(visitor, table.iter().map(|(k, v)| (k, Node::Item(v))))
             }
-            fn visit_bool<E>(self, _: bool) -> Result<SpanTree, E> {
-                Ok(SpanTree::Scalar)
-            }
-            fn visit_i64<E>(self, _: i64) -> Result<SpanTree, E> {
-                Ok(SpanTree::Scalar)
-            }
-            fn visit_u64<E>(self, _: u64) -> Result<SpanTree, E> {
-                Ok(SpanTree::Scalar)
-            }
-            fn visit_f64<E>(self, _: f64) -> Result<SpanTree, E> {
-                Ok(SpanTree::Scalar)
-            }
-            fn visit_str<E>(self, _: &str) -> Result<SpanTree, E> {
-                Ok(SpanTree::Scalar)
-            }
-            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<SpanTree, A::Error> {
-                let mut items = Vec::new();
-                while let Some(item) = seq.next_element()? {
-                    items.push(item);
-                }
-                Ok(SpanTree::Array(items))
-            }
-            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<SpanTree, A::Error> {
-                let mut entries = Vec::new();
-                while let Some(entry) = map.next_entry()? {
-                    entries.push(entry);
-                }
-                Ok(SpanTree::Table(entries))
-            }
+            Node::Item(Item::ArrayOfTables(tables)) => visit_seq(visitor, tables.iter().map(Node::Table)),
+            // Tables do not list empty items.
+            Node::Item(Item::None) => visitor.visit_unit(),
+            Node::Item(Item::Value(value)) | Node::Value(value) => match value {
+                Value::String(s) => visitor.visit_str(s.value()),
+                Value::Integer(i) => visitor.visit_i64(*i.value()),
+                Value::Float(f) => visitor.visit_f64(*f.value()),
+                Value::Boolean(b) => visitor.visit_bool(*b.value()),
+                // No field of a scene file is a date.
+                Value::Datetime(_) => Err(de::Error::invalid_type(self.unexpected(), &visitor)),
+                Value::Array(array) => visit_seq(visitor, array.iter().map(Node::Value)),
+                Value::InlineTable(table) => visit_map(visitor, table.iter().map(|(k, v)| (k, Node::Value(v)))),
+            },
         }
-        deserializer.deserialize_any(TreeVisitor)
     }
+
+    /// Absent fields never reach the deserializer: a value is always `Some`.
+    fn deserialize_option<V: Visitor<'de>>(self, visitor: V) -> Result<V::Value, SchemaError> {
+        visitor.visit_some(self)
+    }
+
+    /// Enums are written as their variant's name.
+    fn deserialize_enum<V: Visitor<'de>>(
+        self,
+        _name: &'static str,
+        variants: &'static [&'static str],
+        visitor: V,
+    ) -> Result<V::Value, SchemaError> {
+        match self {
+            Node::Item(Item::Value(Value::String(s))) | Node::Value(Value::String(s)) => {
+                visitor.visit_enum(s.value().as_str().into_deserializer())
+            }
+            _ => Err(de::Error::invalid_type(self.unexpected(), &one_of(variants).as_str())),
+        }
+    }
+
+    fn deserialize_newtype_struct<V: Visitor<'de>>(
+        self,
+        _name: &'static str,
+        visitor: V,
+    ) -> Result<V::Value, SchemaError> {
+        visitor.visit_newtype_struct(self)
+    }
+
+    serde::forward_to_deserialize_any! {
+        bool i8 i16 i32 i64 i128 u8 u16 u32 u64 u128 f32 f64 char str string bytes byte_buf unit
+        unit_struct seq tuple tuple_struct map struct identifier ignored_any
+    }
+}
+
+impl<'a> Node<'a> {
+    /// What the node holds, for an "invalid type" message.
+    fn unexpected(self) -> Unexpected<'a> {
+        match self {
+            Node::Item(Item::Value(value)) | Node::Value(value) => match value {
+                Value::String(s) => Unexpected::Str(s.value()),
+                Value::Integer(i) => Unexpected::Signed(*i.value()),
+                Value::Float(f) => Unexpected::Float(*f.value()),
+                Value::Boolean(b) => Unexpected::Bool(*b.value()),
+                Value::Datetime(_) => Unexpected::Other("datetime"),
+                Value::Array(_) => Unexpected::Seq,
+                Value::InlineTable(_) => Unexpected::Map,
+            },
+            Node::Item(Item::ArrayOfTables(_)) => Unexpected::Seq,
+            Node::Item(Item::Table(_) | Item::None) | Node::Table(_) => Unexpected::Map,
+        }
+    }
+}
+
+impl<'de, 'a> IntoDeserializer<'de, SchemaError> for Node<'a> {
+    type Deserializer = Node<'a>;
+    fn into_deserializer(self) -> Node<'a> {
+        self
+    }
+}
+
+/// Visits `entries` as a map; every entry must be consumed.
+fn visit_map<'de, 'a, V: Visitor<'de>>(
+    visitor: V,
+    entries: impl Iterator<Item = (&'a str, Node<'a>)>,
+) -> Result<V::Value, SchemaError> {
+    let mut map = MapDeserializer::new(entries);
+    let value = visitor.visit_map(&mut map)?;
+    map.end()?;
+    Ok(value)
+}
+
+/// Visits `items` as a sequence; every item must be consumed.
+fn visit_seq<'de, 'a, V: Visitor<'de>>(
+    visitor: V,
+    items: impl Iterator<Item = Node<'a>>,
+) -> Result<V::Value, SchemaError> {
+    let mut seq = SeqDeserializer::new(items);
+    let value = visitor.visit_seq(&mut seq)?;
+    seq.end()?;
+    Ok(value)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -468,7 +573,10 @@ impl fmt::Display for Bounds {
 }
 
 impl Context<'_> {
-    fn float(&self, path: &str, v: f32, bounds: Bounds) -> Result<f32> {
+    /// The file's number narrowed to the renderer's f32, which is what must be in range (a
+    /// finite 1e39 is inf as an f32).
+    fn float(&self, path: &str, v: f64, bounds: Bounds) -> Result<f32> {
+        let v = v as f32;
         if bounds.contains(f64::from(v)) {
             Ok(v)
         } else {
@@ -484,18 +592,20 @@ impl Context<'_> {
         }
     }
 
-    fn vec3(&self, path: &str, v: [f32; 3]) -> Result<Vec3> {
-        for (i, c) in v.iter().enumerate() {
-            self.float(&format!("{path}[{i}]"), *c, Bounds::FINITE)?;
+    fn finite<const N: usize>(&self, path: &str, v: [f64; N]) -> Result<[f32; N]> {
+        let mut out = [0.0; N];
+        for (i, c) in v.into_iter().enumerate() {
+            out[i] = self.float(&format!("{path}[{i}]"), c, Bounds::FINITE)?;
         }
-        Ok(Vec3::from_array(v))
+        Ok(out)
     }
 
-    fn vec2(&self, path: &str, v: [f32; 2]) -> Result<Vec2> {
-        for (i, c) in v.iter().enumerate() {
-            self.float(&format!("{path}[{i}]"), *c, Bounds::FINITE)?;
-        }
-        Ok(Vec2::from_array(v))
+    fn vec3(&self, path: &str, v: [f64; 3]) -> Result<Vec3> {
+        self.finite(path, v).map(Vec3::from_array)
+    }
+
+    fn vec2(&self, path: &str, v: [f64; 2]) -> Result<Vec2> {
+        self.finite(path, v).map(Vec2::from_array)
     }
 }
 
@@ -613,15 +723,19 @@ impl LightFile {
                 let Some(direction) = self.direction else {
                     bail!("{}: missing required field `light.direction` (directional light)", ctx.origin.display());
                 };
-                let unit = ctx.vec3("light.direction", direction)?.normalize_or_zero();
+                let direction = ctx.vec3("light.direction", direction)?;
+                let unit = direction.normalize_or_zero();
                 if unit.y >= 0.0 {
                     return Err(ctx.error(
                         "light.direction",
-                        format_args!("= {} is out of range: must point downwards (y < 0)", list(&direction)),
+                        format_args!("= {} is out of range: must point downwards (y < 0)", list(&direction.to_array())),
                     ));
                 }
-                let distance =
-                    ctx.float("light.distance", self.distance.unwrap_or(DEFAULT_LIGHT_DISTANCE), Bounds::gt(0.0))?;
+                let distance = ctx.float(
+                    "light.distance",
+                    self.distance.unwrap_or(DEFAULT_LIGHT_DISTANCE.into()),
+                    Bounds::gt(0.0),
+                )?;
                 Ok(Light { kind: LightKind::Directional, direction: unit, position: Vec3::ZERO, intensity, distance })
             }
             LightKindFile::Point => {
@@ -678,7 +792,7 @@ impl WaterFile {
             center: ctx.vec2("water.center", self.center.unwrap_or([0.0; 2]))?,
             extent_min,
             extent_max,
-            ior: ctx.float("water.ior", self.ior.unwrap_or(DEFAULT_IOR), Bounds::left_open(1.0, 3.0))?,
+            ior: ctx.float("water.ior", self.ior.unwrap_or(DEFAULT_IOR.into()), Bounds::left_open(1.0, 3.0))?,
         })
     }
 }
@@ -686,24 +800,25 @@ impl WaterFile {
 impl MediumFile {
     fn validate(&self, ctx: &Context) -> Result<Medium> {
         let defaults = Medium::default();
-        let gamma = match &self.gamma {
+        let gamma = match self.gamma {
             None => defaults.gamma,
-            Some(Gamma { rgb, array }) => {
-                for (i, c) in rgb.iter().enumerate() {
-                    let path = if *array { format!("medium.gamma[{i}]") } else { "medium.gamma".to_owned() };
-                    ctx.float(&path, *c, Bounds::ge(0.0))?;
+            Some(Gamma::Uniform(g)) => Vec3::splat(ctx.float("medium.gamma", g, Bounds::ge(0.0))?),
+            Some(Gamma::Rgb(rgb)) => {
+                let mut out = [0.0; 3];
+                for (i, c) in rgb.into_iter().enumerate() {
+                    out[i] = ctx.float(&format!("medium.gamma[{i}]"), c, Bounds::ge(0.0))?;
                 }
-                Vec3::from_array(*rgb)
+                Vec3::from_array(out)
             }
         };
         Ok(Medium {
             gamma,
             scattering: ctx.float(
                 "medium.scattering",
-                self.scattering.unwrap_or(defaults.scattering),
+                self.scattering.unwrap_or(defaults.scattering.into()),
                 Bounds::ge(0.0),
             )?,
-            hg_g: ctx.float("medium.hg_g", self.hg_g.unwrap_or(defaults.hg_g), Bounds::open(-1.0, 1.0))?,
+            hg_g: ctx.float("medium.hg_g", self.hg_g.unwrap_or(defaults.hg_g.into()), Bounds::open(-1.0, 1.0))?,
         })
     }
 }
@@ -714,8 +829,8 @@ impl EffectsFile {
         let int = |name: &str, v: Option<u32>, default: u32, lo: u32, hi: u32| {
             ctx.int(&format!("effects.{name}"), v.unwrap_or(default), lo, hi)
         };
-        let float = |name: &str, v: Option<f32>, default: f32, bounds: Bounds| {
-            ctx.float(&format!("effects.{name}"), v.unwrap_or(default), bounds)
+        let float = |name: &str, v: Option<f64>, default: f32, bounds: Bounds| {
+            ctx.float(&format!("effects.{name}"), v.unwrap_or(default.into()), bounds)
         };
         let effects = Effects {
             caustics: self.caustics.unwrap_or(d.caustics),
@@ -819,23 +934,33 @@ mod tests {
     }
 
     #[test]
-    fn parents_of_named_paths() {
-        assert_eq!(parent_if_named("lights", "lights"), Some(""));
-        assert_eq!(parent_if_named("objectz[0]", "objectz"), Some(""));
-        assert_eq!(parent_if_named("water.extra", "extra"), Some("water"));
-        assert_eq!(parent_if_named("water", "extra"), None);
-        assert_eq!(parent_if_named("water.xextra", "extra"), None);
+    fn fields_are_found_by_path_in_the_document() {
+        let text = "water.level = 0\nname = 'x'\n[[objects]]\nobj = 'a'\n[[objects]]\nobj = 'b'\nscale = 2\n[medium]\ngamma = [1, 2, 3]\n";
+        let ctx = Context { text, origin: Path::new("t.toml"), doc: ImDocument::parse(text).unwrap() };
+        assert_eq!(ctx.at("objects[1].scale"), "t.toml:7");
+        assert_eq!(ctx.at("medium.gamma[2]"), "t.toml:9");
+        assert_eq!(ctx.at("water.level"), "t.toml:1", "dotted keys have a line too");
+        assert_eq!(ctx.at("camera.position"), "t.toml", "absent fields have no line");
+        assert_eq!(ctx.at("objects[2].scale"), "t.toml");
+    }
+
+    /// Loads `text` (no OBJ is read: each case fails before) and returns the error.
+    fn schema_error(text: &str) -> String {
+        format!("{:#}", load_str(text, Path::new("t.toml")).expect_err("accepted"))
     }
 
     #[test]
-    fn the_span_index_names_nested_fields() {
-        let text = "name = 'x'\n[water]\nlevel = 0\n[[objects]]\nobj = 'a'\n[[objects]]\nobj = 'b'\nscale = 2\n[medium]\ngamma = [1, 2, 3]\n";
-        let ctx = Context::new(text, Path::new("t.toml"));
-        let paths: Vec<&str> = ctx.spans.iter().map(|(p, _)| p.as_str()).collect();
-        for expected in ["name", "water", "water.level", "objects[1].scale", "medium.gamma[2]"] {
-            assert!(paths.contains(&expected), "{expected} not in {paths:?}");
-        }
-        assert_eq!(ctx.at("objects[1].scale"), "t.toml:8");
-        assert_eq!(ctx.at("camera.position"), "t.toml", "absent fields have no line");
+    fn arrays_must_have_exactly_their_length() {
+        let base = "name = 'x'\nobjects = []\n[camera]\nposition = [0, 0, 1]\nlook_at = [0, 0, 0, 5]\n";
+        let message = schema_error(base);
+        assert!(message.contains("t.toml:5:11: camera.look_at: invalid length 4"), "{message}");
+    }
+
+    #[test]
+    fn dates_are_named_and_quoted_keys_found() {
+        let message = schema_error("name = 1979-05-27\n");
+        assert!(message.contains("t.toml:1:8: name: invalid type: datetime, expected a string"), "{message}");
+        let message = schema_error("name = 'x'\n[camera]\n'z.far' = 1\n");
+        assert!(message.contains("t.toml:3:1: unknown field `camera.z.far`"), "{message}");
     }
 }

@@ -3,14 +3,19 @@
 //! hall. Each is written as `<name>.obj` + `<name>.mtl` + `<name>.toml` under `scenes/`.
 //!
 //! The output is committed (`assets/scenes/`) so that users need no generator, and it must be
-//! byte-for-byte what this module writes: numbers are printed with a fixed number of decimals,
-//! the little randomness there is comes from an integer hash, and nothing depends on hash-map
-//! order. A test regenerates the files and compares.
+//! byte-for-byte what this module writes: OBJ and MTL numbers are printed with a fixed number
+//! of decimals, the scene files are the loader's own structs (`file.rs`) through toml's
+//! serializer, the little randomness there is comes from an integer hash, and nothing depends
+//! on hash-map order. A test regenerates the files and compares.
 //!
 //! Geometry is built in f64 from closed solids (boxes, cylinders, rocks, a terrain slab, a
 //! hull), each face wound counter-clockwise seen from outside with outward normals, so that
 //! shadow maps and back-face culling see what a viewer would.
 
+use super::file::{
+    CameraFile, CausticEstimatorFile, EffectsFile, Gamma, LightFile, LightKindFile, MediumFile, ObjectFile, OutputFile,
+    SceneFile, WaterFile, WaterModelFile,
+};
 use anyhow::{Context as _, Result};
 use glam::DVec3;
 use std::collections::HashMap;
@@ -67,10 +72,11 @@ pub fn stale_builtin_assets(dir: &Path) -> Result<Vec<String>> {
 fn builtin_files() -> Vec<(String, String)> {
     let mut files = Vec::new();
     for scene in [tank(), port(), storage()] {
+        let name = scene.name;
         let (obj, mtl) = scene.obj_and_mtl();
-        files.push((format!("scenes/{}.obj", scene.name), obj));
-        files.push((format!("scenes/{}.mtl", scene.name), mtl));
-        files.push((format!("scenes/{}.toml", scene.name), scene.toml()));
+        files.push((format!("scenes/{name}.obj"), obj));
+        files.push((format!("scenes/{name}.mtl"), mtl));
+        files.push((format!("scenes/{name}.toml"), scene.toml()));
     }
     files
 }
@@ -111,31 +117,20 @@ const CRATE_WOOD: Material = Material { name: "crate_wood", kd: [0.68, 0.52, 0.3
 const LIGHT_DIRECTION: [f64; 3] = [0.25, -1.0, 0.15];
 const LIGHT_INTENSITY: f64 = 9.2;
 const WATER_LEVEL: f64 = 0.0;
+const WATER_IOR: f64 = 1.333;
+const MEDIUM: MediumFile = MediumFile { gamma: Some(Gamma::Uniform(0.13)), scattering: Some(0.05), hg_g: Some(0.5) };
+
+/// The comment on the built-in scenes' `[effects]`: toml's serializer writes no comments, so it
+/// goes in under the table's header.
+const EFFECTS_COMMENT: &str = "\
+# Warped-cell triangles at about the GPU cost of the paper's 200² x 2² points, which they
+# beat on every built-in scene (docs/accuracy.md); caustic_estimator = \"paper\" restores those.
+";
 
 struct Object {
     name: &'static str,
     material: &'static Material,
     part: Part,
-}
-
-struct Camera {
-    position: [f64; 3],
-    look_at: [f64; 3],
-    fov_y_degrees: f64,
-    z_near: f64,
-    z_far: f64,
-}
-
-struct WaterSurface {
-    model: &'static str,
-    amplitude: f64,
-    wavelength: f64,
-    speed: f64,
-    noise_amplitude: f64,
-    noise_scale: f64,
-    center: [f64; 2],
-    extent_min: [f64; 2],
-    extent_max: [f64; 2],
 }
 
 struct SceneSpec {
@@ -144,11 +139,11 @@ struct SceneSpec {
     summary: &'static str,
     output: [u32; 2],
     objects: Vec<Object>,
-    camera: Camera,
+    camera: CameraFile,
     /// Distance of the tracking directional light from what it looks at: enough to be above
     /// everything in the scene.
     light_distance: f64,
-    water: WaterSurface,
+    water: WaterFile,
 }
 
 /// Fixed-decimal number formatting; `-0.000` is written `0.000` so that a value's sign
@@ -159,11 +154,6 @@ fn num(x: f64, decimals: usize) -> String {
         Some(rest) if rest.bytes().all(|b| b == b'0' || b == b'.') => rest.to_owned(),
         _ => s,
     }
-}
-
-fn toml_list(v: &[f64]) -> String {
-    let parts: Vec<String> = v.iter().map(|x| num(*x, 3)).collect();
-    format!("[{}]", parts.join(", "))
 }
 
 impl SceneSpec {
@@ -193,83 +183,39 @@ impl SceneSpec {
         (obj, mtl)
     }
 
-    fn toml(&self) -> String {
-        let c = &self.camera;
-        let w = &self.water;
-        let mut s = self.header("#");
-        write!(
-            s,
-            r#"name = "{name}"
-
-[output]
-width = {width}
-height = {height}
-
-[[objects]]
-obj = "{name}.obj"
-
-[camera]
-position = {position}
-look_at = {look_at}
-fov_y_degrees = {fov}
-z_near = {z_near}
-z_far = {z_far}
-
-[light]
-kind = "directional"
-direction = {direction}
-intensity = {intensity}
-distance = {distance}
-
-[water]
-model = "{model}"
-level = {level}
-amplitude = {amplitude}
-wavelength = {wavelength}
-speed = {speed}
-noise_amplitude = {noise_amplitude}
-noise_scale = {noise_scale}
-center = {center}
-extent_min = {extent_min}
-extent_max = {extent_max}
-ior = 1.333
-
-[medium]
-gamma = 0.130
-scattering = 0.050
-hg_g = 0.500
-
-[effects]
-# Warped-cell triangles at about the GPU cost of the paper's 200² x 2² points, which they
-# beat on every built-in scene (docs/accuracy.md); caustic_estimator = "paper" restores those.
-caustic_estimator = "triangles"
-caustic_grid = 100
-caustic_subdivision = 3
-"#,
-            name = self.name,
-            width = self.output[0],
-            height = self.output[1],
-            position = toml_list(&c.position),
-            look_at = toml_list(&c.look_at),
-            fov = num(c.fov_y_degrees, 3),
-            z_near = num(c.z_near, 3),
-            z_far = num(c.z_far, 3),
-            direction = toml_list(&LIGHT_DIRECTION),
-            intensity = num(LIGHT_INTENSITY, 3),
-            distance = num(self.light_distance, 3),
-            model = w.model,
-            level = num(WATER_LEVEL, 3),
-            amplitude = num(w.amplitude, 3),
-            wavelength = num(w.wavelength, 3),
-            speed = num(w.speed, 3),
-            noise_amplitude = num(w.noise_amplitude, 3),
-            noise_scale = num(w.noise_scale, 3),
-            center = toml_list(&w.center),
-            extent_min = toml_list(&w.extent_min),
-            extent_max = toml_list(&w.extent_max),
-        )
-        .unwrap();
-        s
+    /// The scene file: the OBJ as the only object, the paper's light and medium, and the
+    /// triangle caustic estimator.
+    fn toml(self) -> String {
+        let header = self.header("#");
+        let file = SceneFile {
+            name: self.name.to_owned(),
+            output: Some(OutputFile { width: self.output[0], height: self.output[1] }),
+            objects: vec![ObjectFile {
+                obj: format!("{}.obj", self.name),
+                translate: None,
+                rotate_y_degrees: None,
+                scale: None,
+            }],
+            camera: self.camera,
+            light: LightFile {
+                kind: LightKindFile::Directional,
+                direction: Some(LIGHT_DIRECTION),
+                position: None,
+                intensity: LIGHT_INTENSITY,
+                distance: Some(self.light_distance),
+            },
+            water: self.water,
+            medium: Some(MEDIUM),
+            effects: Some(EffectsFile {
+                caustic_estimator: Some(CausticEstimatorFile::Triangles),
+                caustic_grid: Some(100),
+                caustic_subdivision: Some(3),
+                ..EffectsFile::default()
+            }),
+        };
+        let body = toml::to_string(&file).expect("a scene file serializes");
+        let (before, after) = body.split_once("\n[effects]\n").expect("the scene file has an [effects] table");
+        format!("{header}{before}\n[effects]\n{EFFECTS_COMMENT}{after}")
     }
 }
 
@@ -623,7 +569,7 @@ fn tank() -> SceneSpec {
         summary: "an aquarium tank, 4 m x 4 m x 2 m of water, open at the top",
         output: [800, 800],
         objects,
-        camera: Camera {
+        camera: CameraFile {
             position: [-1.6, -0.9, 1.6],
             look_at: [0.6, -1.9, -0.6],
             fov_y_degrees: 60.0,
@@ -631,16 +577,18 @@ fn tank() -> SceneSpec {
             z_far: 20.0,
         },
         light_distance: 10.0,
-        water: WaterSurface {
-            model: "circular-cosine",
+        water: WaterFile {
+            model: WaterModelFile::CircularCosine,
+            level: WATER_LEVEL,
             amplitude: 0.03,
             wavelength: 0.8,
             speed: 0.3,
             noise_amplitude: 0.01,
             noise_scale: 2.0,
-            center: [0.3, -0.2],
+            center: Some([0.3, -0.2]),
             extent_min: [-HALF, -HALF],
             extent_max: [HALF, HALF],
+            ior: Some(WATER_IOR),
         },
     }
 }
@@ -701,7 +649,7 @@ fn port() -> SceneSpec {
         summary: "a small harbour: quay wall, pier on piles, a moored boat, seabed sloping from 2 m to 6 m",
         output: [1440, 850],
         objects,
-        camera: Camera {
+        camera: CameraFile {
             position: [-1.0, -2.5, 11.0],
             look_at: [2.0, -3.4, -1.0],
             fov_y_degrees: 60.0,
@@ -709,16 +657,18 @@ fn port() -> SceneSpec {
             z_far: 60.0,
         },
         light_distance: 30.0,
-        water: WaterSurface {
-            model: "axis-cosine-noise",
+        water: WaterFile {
+            model: WaterModelFile::AxisCosineNoise,
+            level: WATER_LEVEL,
             amplitude: 0.05,
             wavelength: 2.0,
             speed: 1.0,
             noise_amplitude: 0.08,
             noise_scale: 8.0,
-            center: [0.0, 0.0],
+            center: Some([0.0, 0.0]),
             extent_min: [-15.0, QUAY_FACE],
             extent_max: [15.0, 15.0],
+            ior: Some(WATER_IOR),
         },
     }
 }
@@ -807,7 +757,7 @@ fn storage() -> SceneSpec {
         summary: "a flooded storage hall, 16 m x 12 m, 3 m of water, pallet racking and crates",
         output: [1440, 850],
         objects,
-        camera: Camera {
+        camera: CameraFile {
             position: [-7.3, -1.5, 0.0],
             look_at: [3.0, -2.3, 0.4],
             fov_y_degrees: 60.0,
@@ -815,16 +765,18 @@ fn storage() -> SceneSpec {
             z_far: 40.0,
         },
         light_distance: 20.0,
-        water: WaterSurface {
-            model: "circular-cosine",
+        water: WaterFile {
+            model: WaterModelFile::CircularCosine,
+            level: WATER_LEVEL,
             amplitude: 0.03,
             wavelength: 1.5,
             speed: 0.4,
             noise_amplitude: 0.02,
             noise_scale: 4.0,
-            center: [-2.0, 1.0],
+            center: Some([-2.0, 1.0]),
             extent_min: [-HALF_X, -HALF_Z],
             extent_max: [HALF_X, HALF_Z],
+            ior: Some(WATER_IOR),
         },
     }
 }
