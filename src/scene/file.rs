@@ -843,7 +843,7 @@ impl EffectsFile {
                 self.caustic_subdivision,
                 d.caustic_subdivision,
                 1,
-                crate::shader_math::MAX_SUBDIVISION,
+                crate::shader_abi::limits::MAX_SUBDIVISION,
             )?,
             caustic_estimator: match self.caustic_estimator {
                 None => d.caustic_estimator,
@@ -856,7 +856,7 @@ impl EffectsFile {
                 self.godray_subdivision,
                 d.godray_subdivision,
                 1,
-                crate::shader_math::GODRAY_MAX_SUBDIVISION,
+                crate::shader_abi::limits::GODRAY_MAX_SUBDIVISION,
             )?,
             caustic_target_scale: float(
                 "caustic_target_scale",
@@ -876,7 +876,7 @@ impl EffectsFile {
             iterations: int("iterations", self.iterations, d.iterations, 1, 64)?,
             shadow_map_size: int("shadow_map_size", self.shadow_map_size, d.shadow_map_size, 16, 8192)?,
         };
-        let triangle_max = crate::shader_math::TRIANGLE_MAX_SUBDIVISION;
+        let triangle_max = crate::shader_abi::limits::TRIANGLE_MAX_SUBDIVISION;
         if effects.caustic_estimator == CausticEstimator::Triangles && effects.caustic_subdivision > triangle_max {
             return Err(ctx.error(
                 "effects.caustic_subdivision",
