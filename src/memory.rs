@@ -45,6 +45,52 @@ impl DeviceMemory {
     }
 }
 
+/// One live allocation of the device memory, by the name of the buffer or image it backs.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct NamedAllocation {
+    pub name: String,
+    pub bytes: u64,
+}
+
+/// Every live allocation, largest first (ties by name, so the order is stable).
+pub fn allocations(device: &Device) -> Vec<NamedAllocation> {
+    let report = device.allocator().generate_report();
+    let mut out: Vec<NamedAllocation> =
+        report.allocations.iter().map(|a| NamedAllocation { name: a.name.clone(), bytes: a.size }).collect();
+    out.sort_by(|a, b| b.bytes.cmp(&a.bytes).then_with(|| a.name.cmp(&b.name)));
+    out
+}
+
+/// What a renderer holds in device memory: each target and buffer it allocated, and the
+/// most that was live at once while it rendered.
+#[derive(Clone, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct FrameMemory {
+    /// Allocations made since the renderer was created, largest first.
+    pub allocations: Vec<NamedAllocation>,
+    pub total_bytes: u64,
+    /// The largest total seen at any sample (creation, after rendering, after read-back).
+    pub peak_bytes: u64,
+}
+
+impl FrameMemory {
+    /// The allocations live now that were not in `before` (by name and size), with the peak
+    /// so far raised to their total.
+    pub fn since(device: &Device, before: &[NamedAllocation], peak_bytes: u64) -> Self {
+        let mut earlier = before.to_vec();
+        let mut made = Vec::new();
+        for a in allocations(device) {
+            match earlier.iter().position(|e| *e == a) {
+                Some(i) => {
+                    earlier.swap_remove(i);
+                }
+                None => made.push(a),
+            }
+        }
+        let total_bytes = made.iter().map(|a| a.bytes).sum();
+        Self { allocations: made, total_bytes, peak_bytes: peak_bytes.max(total_bytes) }
+    }
+}
+
 /// Memory after a number of frames.
 #[derive(Clone, Copy, Debug, serde::Serialize)]
 pub struct MemorySample {

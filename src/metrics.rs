@@ -278,6 +278,38 @@ mod tests {
     }
 
     #[test]
+    fn edge_error_sees_a_halo_at_the_edge_and_not_elsewhere() {
+        // A bright pillar (x < 20) against a dim wall, and the same with the pillar's light
+        // bled 2 px onto the wall: all the error is in the edge band.
+        let (w, h) = (48usize, 32usize);
+        let sharp: Vec<[f32; 3]> = (0..w * h).map(|i| if i % w < 20 { [1.0; 3] } else { [0.1; 3] }).collect();
+        let mut haloed = sharp.clone();
+        for y in 0..h {
+            for x in 20..22 {
+                haloed[y * w + x] = [0.5; 3];
+            }
+        }
+        let same = edge_error(&sharp, &sharp, w, h).unwrap();
+        assert_eq!((same.near_edges, same.whole), (0.0, 0.0));
+        let e = edge_error(&haloed, &sharp, w, h).unwrap();
+        // The band: 2 edge columns (19, 20) widened by 3 px each way, all rows.
+        assert_eq!(e.edge_pixels, 8 * h, "{e:?}");
+        assert!(e.near_edges > 2.0 * e.whole && e.whole > 0.0, "{e:?}");
+        assert!(edge_error(&sharp, &sharp[1..], w, h).is_err());
+    }
+
+    #[test]
+    fn output_radiance_undoes_the_tonemap() {
+        let exposure = 0.7;
+        let hdr = image(4, 1, |x, _| 0.3 * x as f32 + 0.05);
+        let back = output_radiance(&tonemap_srgb8(&hdr, exposure), exposure);
+        for (p, l) in hdr.pixels.iter().zip(&back) {
+            // 8-bit steps: within 2 % here.
+            assert!((l[0] - p[0]).abs() <= 0.02 * p[0] + 1e-3, "{} against {}", l[0], p[0]);
+        }
+    }
+
+    #[test]
     fn gap_fraction_counts_holes_in_lit_regions_only() {
         let image = |f: &dyn Fn(u32, u32) -> f32| HdrImage {
             width: 64,

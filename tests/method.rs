@@ -11,6 +11,7 @@ use underlight::frame::FrameOptions;
 use underlight::frame::FramePlan;
 use underlight::headless::{SceneImages, SceneRenderer};
 use underlight::image_io::HdrImage;
+use underlight::memory;
 use underlight::metrics::gap_fraction;
 use underlight::passes::PassId;
 use underlight::passes::PhotonPath;
@@ -289,7 +290,28 @@ fn plan_skips_what_the_scene_does_not_need() {
     assert!(f.caustics.is_none() && f.godrays.is_none() && f.shadow.is_none());
     assert!(f.caustic_filter.is_none() && f.godray_filter.is_none());
     assert!(f.refraction.is_none() && f.reflection.is_none(), "the camera is under the water");
+    // And the allocator agrees: nothing of theirs is in device memory (memory::allocations,
+    // what `bench` reports), not even a target a pass would have owned.
+    let names = |device| -> Vec<String> { memory::allocations(device).into_iter().map(|a| a.name).collect() };
+    let skipped = ["light ", "caustics", "godrays", "refraction", "reflection"];
+    let live = names(&ctx.device);
+    assert!(live.iter().any(|n| n.starts_with("scene colour")), "{live:?}");
+    let stray: Vec<&String> = live.iter().filter(|n| skipped.iter().any(|s| n.starts_with(s))).collect();
+    assert!(stray.is_empty(), "a frame without effects under the water allocates {stray:?}");
     drop(renderer);
+    // Under the water with both effects: their targets and the light maps, sized as planned
+    // (RGBA32F positions), and still no surface passes.
+    let before = memory::allocations(&ctx.device);
+    let renderer = SceneRenderer::new(&ctx.device, &scene, out).unwrap();
+    let made = memory::FrameMemory::since(&ctx.device, &before, 0);
+    let bytes = |name: &str| made.allocations.iter().find(|a| a.name == name).map(|a| a.bytes);
+    let light_map = renderer.frame.extents.light_map as u64;
+    assert!(bytes("light position map").is_some_and(|b| b >= 16 * light_map * light_map), "{made:?}");
+    assert!(bytes("caustics").is_some() && bytes("godrays").is_some(), "{made:?}");
+    assert!(!made.allocations.iter().any(|a| a.name.starts_with("refraction") || a.name.starts_with("reflection")));
+    assert_eq!(made.total_bytes, made.allocations.iter().map(|a| a.bytes).sum::<u64>());
+    drop(renderer);
+    assert!(memory::allocations(&ctx.device).is_empty(), "the renderer's memory outlives it");
     assert_clean_shutdown(ctx);
 }
 

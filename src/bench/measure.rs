@@ -7,6 +7,7 @@ use crate::frame::FrameOptions;
 use crate::frame::PassTimings;
 use crate::headless::SceneRenderer;
 use crate::image_io::HdrImage;
+use crate::memory::{self, FrameMemory};
 use crate::passes::PassId;
 use crate::passes::PhotonPath;
 use crate::scene::{CausticEstimator, Scene};
@@ -41,6 +42,8 @@ pub struct BenchResult {
     /// buffers differ from the geometry shader's on the same frame (`--compare-paths`).
     pub caustic_difference: Option<BufferDifference>,
     pub godray_difference: Option<BufferDifference>,
+    /// The device memory of this configuration's frame: every target and buffer, and the peak.
+    pub memory: FrameMemory,
 }
 
 /// How a photon buffer differs from a reference one.
@@ -148,8 +151,13 @@ fn measure(
     let s = config.apply(scene);
     let extent = vk::Extent2D { width: config.width, height: config.height };
     let options = FrameOptions { photon_path: path, ..Default::default() };
+    let before = memory::allocations(device);
     let mut renderer = SceneRenderer::with_options(device, &s, extent, options)?;
+    let created = FrameMemory::since(device, &before, 0);
     let (timings, _) = renderer.render(warmup + frames, 0.0, 1.0 / 60.0, false)?;
+    // The frame allocates nothing per frame, so this is the frame's memory; it is sampled
+    // again after the read-back below in case a path allocates while rendering.
+    let mut memory = FrameMemory::since(device, &before, created.peak_bytes);
     let measured: Vec<&PassTimings> = timings.iter().skip(warmup as usize).collect();
     let mut passes = Vec::new();
     for id in renderer.frame.plan.passes.iter().copied() {
@@ -163,6 +171,7 @@ fn measure(
     let caustic_subdivision = config.caustic_subdivision.unwrap_or(config.subdivision);
     let buffers = if read_buffers {
         let (_, images) = renderer.render(1, 0.0, 0.0, true)?;
+        memory = FrameMemory::since(device, &before, memory.peak_bytes);
         images.map(|i| [i.caustics, i.godrays])
     } else {
         None
@@ -186,6 +195,7 @@ fn measure(
         total: stats("total", totals),
         caustic_difference: None,
         godray_difference: None,
+        memory,
     };
     Ok((result, buffers))
 }

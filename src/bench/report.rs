@@ -56,6 +56,42 @@ impl BenchReport {
         if self.results.iter().any(|r| r.photon_path != PhotonPath::GeometryShader) {
             out.push_str(&self.paths_table());
         }
+        out.push_str(&self.memory_table());
+        out
+    }
+
+    /// Device memory per configuration: the total and the peak of each run, then every target
+    /// and buffer of the first run of each configuration (the other photon paths differ only
+    /// in their own buffers, which their totals show).
+    fn memory_table(&self) -> String {
+        let mib = |bytes: u64| bytes as f64 / (1024.0 * 1024.0);
+        let mut out = String::from(
+            "
+device memory (gpu-allocator's report; read-back buffers included):
+",
+        );
+        for r in &self.results {
+            let m = &r.memory;
+            let _ = writeln!(
+                out,
+                "{:<32} {:>9.2} MiB in {:>3} allocations, peak {:>9.2} MiB",
+                format!("{} ({})", r.config.name, r.photon_path.name()),
+                mib(m.total_bytes),
+                m.allocations.len(),
+                mib(m.peak_bytes)
+            );
+        }
+        let mut listed: Vec<&str> = Vec::new();
+        for r in &self.results {
+            if listed.contains(&r.config.name) {
+                continue;
+            }
+            listed.push(r.config.name);
+            let _ = writeln!(out, "{} ({}):", r.config.name, r.photon_path.name());
+            for a in &r.memory.allocations {
+                let _ = writeln!(out, "  {:<40} {:>10.3} MiB", a.name, mib(a.bytes));
+            }
+        }
         out
     }
 

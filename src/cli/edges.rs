@@ -33,10 +33,8 @@ pub(super) fn run(cli: &Cli, args: &EdgesArgs) -> Result<i32> {
     let mut full = scene.clone();
     full.effects.caustic_target_scale = 1.0;
     full.effects.godray_target_scale = 1.0;
-    let extent = vk::Extent2D {
-        width: args.width.unwrap_or(scene.output[0]),
-        height: args.height.unwrap_or(scene.output[1]),
-    };
+    let extent =
+        vk::Extent2D { width: args.width.unwrap_or(scene.output[0]), height: args.height.unwrap_or(scene.output[1]) };
     if let Some(dir) = &args.out_dir {
         prepare_outputs([&dir.join("x")])?;
     }

@@ -15,6 +15,8 @@ pub struct Image {
     pub format: vk::Format,
     pub extent: vk::Extent2D,
     pub aspect: vk::ImageAspectFlags,
+    /// The debug name, which its allocation carries too (memory reports list it).
+    pub name: String,
     allocation: ManuallyDrop<Allocation>,
     device: Arc<Device>,
 }
@@ -60,6 +62,7 @@ impl Image {
             format,
             extent,
             aspect,
+            name: name.to_string(),
             allocation: ManuallyDrop::new(allocation),
             device: device.clone(),
         };

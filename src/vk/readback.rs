@@ -29,7 +29,7 @@ impl Readback {
         let size = (image.texel_count() * texel) as vk::DeviceSize;
         let buffer = Buffer::new(
             device,
-            "readback staging",
+            &format!("{} read-back", image.name),
             size,
             vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
