@@ -112,6 +112,35 @@ fn inscattering_matches_the_single_scattering_integral() {
 }
 
 #[test]
+fn inscattering_off_the_view_axis_matches_the_integral() {
+    // The same pool at the left and right sides of the view, ~28° off the axis: the rays are
+    // still level, so the beams still scatter by 90°, and each ray reaches the pool's edge
+    // after 6 m / cos α. The paper's `sin θ · l_pix` footprint, exact only on the axis, reads
+    // cos α ≈ 0.88 of this here (docs/units.md).
+    let scene = horizontal_pool();
+    let g = godrays(&scene);
+    let gamma = 0.13f64;
+    let tan_half = (scene.camera.fov_y_degrees as f64 / 2.0).to_radians().tan();
+    let along = |x: u32| {
+        let tan_a = ((x as f64 + 0.5) / SIDE as f64 * 2.0 - 1.0) * tan_half;
+        let path = 6.0 * (1.0 + tan_a * tan_a).sqrt();
+        scene.medium.scattering as f64
+            * henyey_greenstein(0.0, scene.medium.hg_g) as f64
+            * directional_irradiance(&scene) as f64
+            * fresnel_transmittance(1.0, 1.333) as f64
+            * (-gamma).exp()
+            * (1.0 - (-gamma * path).exp())
+            / gamma
+    };
+    for columns in [0..8, SIDE - 8..SIDE] {
+        let expected = columns.clone().map(along).sum::<f64>() / columns.len() as f64;
+        let got = block_mean(&g, columns.clone(), 44..52);
+        eprintln!("columns {columns:?}: in-scattered radiance {got:e}, analytic {expected:e}");
+        assert!((got / expected - 1.0).abs() < 0.05, "columns {columns:?}: {got:e} against {expected:e}");
+    }
+}
+
+#[test]
 fn godrays_exist_only_under_water() {
     // From 1 m above the water looking level, every beam point is below the camera: the
     // upper half of the view crosses no water and must stay black.

@@ -5,6 +5,7 @@
 // line_width wide (Vulkan's rule for lines with strictLines); each covered pixel centre
 // gets the perspective-correct point of the beam under it, the same visibility test and
 // the same radiance (godray_beam.glsl), added with float atomics.
+#define PHOTON_BEAMS
 #include "../photons/photon_cast.glsl"
 #include "godray_beam.glsl"
 #include "../photons/photon_visibility.glsl"

@@ -1,6 +1,7 @@
 #version 450
 // Godrays (method step 6): the same photon casting on the godray grid, each photon that
 // reaches a receiver emitted as a line from where it entered the water to where it lands.
+#define PHOTON_BEAMS
 #include "../photons/photon_cast.glsl"
 
 layout(points) in;

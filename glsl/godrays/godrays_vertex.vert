@@ -2,6 +2,7 @@
 // The vertex-only godray path: two vertices per photon drawn as a line list, no
 // amplification stage. Both ends cast the same photon (the price of having no stage that
 // sees a whole primitive) and draw the geometry shader's line.
+#define PHOTON_BEAMS
 #include "../photons/photon_cast.glsl"
 
 layout(constant_id = 0) const uint SUBDIVISION = 2;

@@ -165,7 +165,12 @@ bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
     if (r.w <= 0.0) { photon_fate = PHOTON_LEAVES_MAP; return false; }
     vec3 rn = texelFetch(light_normal, texel, 0).xyz;
     vec3 to_hit = frame.light_is_point > 0.0 ? normalize(hit - frame.light_position) : frame.light_axis;
-    if (!converged(hit, r.xyz, rn, to_hit, dist)) { photon_fate = PHOTON_NOT_CONVERGED; return false; }
+    if (!converged(hit, r.xyz, rn, to_hit, dist)) {
+        photon_fate = PHOTON_NOT_CONVERGED;
+#ifndef PHOTON_BEAMS
+        return false;
+#endif
+    }
     if (hit.y > w.level + abs(w.amplitude) + abs(w.noise_amplitude)) { photon_fate = PHOTON_ABOVE_WATER; return false; }
 
     ph.surface = ps;
@@ -174,7 +179,7 @@ bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
     ph.flux = flux * fresnel_transmittance(cos_i, w.ior);
     ph.travelled = dist;
     bool finite = !(any(isnan(hit)) || any(isinf(hit)) || isnan(ph.flux) || isinf(ph.flux));
-    photon_fate = finite ? PHOTON_LANDED : PHOTON_NOT_FINITE;
+    if (photon_fate == PHOTON_LANDED && !finite) photon_fate = PHOTON_NOT_FINITE;
     return finite;
 }
 #endif
