@@ -1,0 +1,121 @@
+#!/usr/bin/env bash
+# The project's GPU check in one command: the paper's four configurations and the shipped
+# triangles on every photon path, the scaling curves, and the shipped settings' accuracy
+# on the three built-in scenes against the CPU reference. Output: one JSON file and one
+# Markdown file (docs/performance.md, "On a GPU", says how to read them).
+#
+#   Here, before the device is lent:   bash scripts/gpu-check.sh --prepare
+#     builds the release binary and puts it, the Vulkan loader (../shared/gpu) and the
+#     cached references the accuracy step needs into .gpu/ (git-ignored, carried along).
+#   On the device (the run tool, carry [".gpu"]):
+#     source .gpu/env.sh; bash scripts/gpu-check.sh --out "$OUT"
+#   Anywhere, as a smoke test of this script (tiny configuration, one scene, lavapipe):
+#     bash scripts/gpu-check.sh --quick --out out/gpu-check
+#
+# Sized to finish in under 8 minutes on the H200: the benches run 20 frames after 3 warm-up
+# frames; the accuracy step renders 3 scenes at 320×200 and reads the references from the
+# cache (tracing them there would take the CPU minutes).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+mode=run
+out=out/gpu-check
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --prepare) mode=prepare ;;
+    --quick) mode=quick ;;
+    --out) out="$2"; shift ;;
+    *) echo "gpu-check: unknown argument $1 (expected --prepare, --quick or --out DIR)" >&2; exit 2 ;;
+  esac
+  shift
+done
+
+scenes=(tank port storage)
+# The shipped settings (assets/scenes/*.toml [effects]) as sweep axes, and the size the
+# accuracy tables in docs/accuracy.md use.
+sweep_axes=(--width 320 --height 200 --grid 100 --subdiv 3 --estimator triangles --filter on)
+
+if [ "$mode" = prepare ]; then
+  cargo build --release
+  ../shared/gpu/prepare.sh
+  cp target/release/underlight .gpu/underlight
+  # The references the accuracy step compares with (two times each: the flicker figure),
+  # traced here once by the same sweep on this machine's driver; the device reads them back.
+  for scene in "${scenes[@]}"; do
+    target/release/underlight sweep --scene "$scene" "${sweep_axes[@]}" --frames 1 --warmup 1 \
+      --cache .gpu/reference --out "out/gpu-check-prepare/sweep-$scene"
+  done
+  du -sh .gpu
+  echo "prepared .gpu/: on the device run  source .gpu/env.sh; bash scripts/gpu-check.sh --out \"\$OUT\""
+  exit 0
+fi
+
+if [ -x .gpu/underlight ]; then
+  bin=.gpu/underlight
+elif [ -x target/release/underlight ]; then
+  bin=target/release/underlight
+else
+  echo "gpu-check: no binary; run  bash scripts/gpu-check.sh --prepare  first (or cargo build --release)" >&2
+  exit 1
+fi
+cache_args=()
+if [ -d .gpu/reference ]; then cache_args=(--cache .gpu/reference); fi
+
+if [ "$mode" = quick ]; then
+  configs=tiny
+  frames=(--frames 2 --warmup 1)
+  scenes=(tank)
+  sweep_axes=(--width 96 --height 60 --grid 24 --subdiv 3 --estimator triangles --filter on --photons 200000 --beams 50000)
+else
+  configs=paper-800,paper-1440,paper-1m-photons,paper-1440-high,triangles-800
+  frames=(--frames 20 --warmup 3)
+fi
+
+mkdir -p "$out"
+start=$(date +%s)
+"$bin" devices | tee "$out/devices.txt"
+echo "== bench: $configs, every photon path, scaling"
+"$bin" bench --config "$configs" "${frames[@]}" --compare-paths --scaling --json "$out/bench.json" | tee "$out/bench.txt"
+for scene in "${scenes[@]}"; do
+  echo "== accuracy: $scene at the shipped settings"
+  "$bin" sweep --scene "$scene" "${sweep_axes[@]}" --frames 5 --warmup 2 "${cache_args[@]}" --out "$out/sweep-$scene" \
+    | tee "$out/sweep-$scene.txt"
+done
+seconds=$(( $(date +%s) - start ))
+
+# One JSON file: the device, the bench's report and each scene's sweep rows.
+{
+  printf '{\n  "seconds": %d,\n  "devices": %s,\n  "bench": ' "$seconds" \
+    "$(sed 's/\\/\\\\/g; s/"/\\"/g' "$out/devices.txt" | awk 'BEGIN{printf "\""} {printf "%s\\n", $0} END{printf "\""}')"
+  cat "$out/bench.json"
+  printf ',\n  "accuracy": {'
+  sep=""
+  for scene in "${scenes[@]}"; do
+    printf '%s\n    "%s": ' "$sep" "$scene"
+    cat "$out/sweep-$scene/sweep.json"
+    sep=","
+  done
+  printf '\n  }\n}\n'
+} > "$out/gpu-check.json"
+
+# One Markdown file: the bench's tables and each scene's accuracy row.
+{
+  echo "# GPU check ($(date -u +%Y-%m-%d), ${seconds} s)"
+  echo
+  echo '```'
+  cat "$out/devices.txt"
+  echo '```'
+  echo
+  echo "## Per-pass GPU time"
+  echo
+  echo '```'
+  cat "$out/bench.txt"
+  echo '```'
+  for scene in "${scenes[@]}"; do
+    echo
+    echo "## Accuracy: $scene"
+    echo
+    cat "$out/sweep-$scene/sweep.md"
+  done
+} > "$out/gpu-check.md"
+echo "wrote $out/gpu-check.json and $out/gpu-check.md in ${seconds} s"
