@@ -49,6 +49,39 @@ pub fn write_pfm(path: &Path, image: &HdrImage) -> Result<()> {
     std::fs::write(path, out).with_context(|| format!("writing {}", path.display()))
 }
 
+/// Writes RGB as an OpenEXR file of 32-bit float channels R, G and B (no compression, one
+/// layer), which every EXR reader opens.
+pub fn write_exr(path: &Path, image: &HdrImage) -> Result<()> {
+    use exr::prelude::*;
+    let (w, h) = (image.width as usize, image.height as usize);
+    let channels = SpecificChannels::rgb(|position: Vec2<usize>| {
+        let p = image.pixels[position.y() * w + position.x()];
+        (p[0], p[1], p[2])
+    });
+    let layer = Layer::new((w, h), LayerAttributes::default(), Encoding::UNCOMPRESSED, channels);
+    Image::from_layer(layer).write().to_file(path).with_context(|| format!("writing {}", path.display()))
+}
+
+/// Reads the first RGB(A) layer of an OpenEXR file (any sample type, as f32); alpha is 1
+/// where the file has none.
+pub fn read_exr(path: &Path) -> Result<HdrImage> {
+    use exr::prelude::*;
+    let image = read_first_rgba_layer_from_file(
+        path,
+        |resolution, _| HdrImage {
+            width: resolution.width() as u32,
+            height: resolution.height() as u32,
+            pixels: vec![[0.0; 4]; resolution.width() * resolution.height()],
+        },
+        |image: &mut HdrImage, position, (r, g, b, a): (f32, f32, f32, f32)| {
+            let i = position.y() * image.width as usize + position.x();
+            image.pixels[i] = [r, g, b, a];
+        },
+    )
+    .with_context(|| format!("reading {}", path.display()))?;
+    Ok(image.layer_data.channel_data.pixels)
+}
+
 /// Reads a colour (`PF`) or greyscale (`Pf`) PFM of either endianness; alpha is set to 1.
 pub fn read_pfm(path: &Path) -> Result<HdrImage> {
     let file = std::fs::File::open(path).with_context(|| format!("opening {}", path.display()))?;

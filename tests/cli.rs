@@ -39,3 +39,55 @@ fn bad_command_lines_are_named_errors() {
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0, "a failed command left files behind");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn hdr_buffers_are_written_as_pfm_and_openexr() {
+    let dir = std::env::temp_dir().join(format!("underlight-hdr-{}", std::process::id()));
+    let out = dir.join("out.png");
+    let args = ["render", "--scene", "tank", "--width", "64", "--height", "40", "--frames", "1", "--hdr"];
+    let mut args: Vec<String> = args.iter().map(|s| s.to_string()).collect();
+    args.extend([dir.display().to_string(), "--out".into(), out.display().to_string()]);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let (code, stderr) = run(&args);
+    assert_eq!(code, 0, "render --hdr failed:\n{stderr}");
+    for name in ["scene_color", "albedo_transmittance", "caustics", "godrays", "godrays_filtered"] {
+        let pfm = underlight::image_io::read_pfm(&dir.join(format!("{name}.pfm"))).unwrap();
+        let exr = underlight::image_io::read_exr(&dir.join(format!("{name}.exr"))).unwrap();
+        assert_eq!((exr.width, exr.height), (pfm.width, pfm.height), "{name}");
+        // Float32 both: the same values, bit for bit (PFM has no alpha; the EXR none either).
+        assert!(exr.pixels.iter().zip(&pfm.pixels).all(|(e, p)| e[..3] == p[..3]), "{name}: EXR and PFM differ");
+        assert!(pfm.channel_sums()[0] > 0.0, "{name} is black");
+    }
+    // A reader that is not ours: ImageMagick's OpenEXR delegate, where it is installed.
+    let identify = std::path::Path::new("/usr/bin/identify");
+    if identify.exists() {
+        let caustics = dir.join("caustics.exr");
+        let probe = Command::new(identify).arg(&caustics).output().unwrap();
+        let text = String::from_utf8_lossy(&probe.stdout);
+        if probe.status.success() {
+            assert!(text.contains("EXR 41x26"), "ImageMagick reads {}: {text}", caustics.display());
+        } else {
+            eprintln!("ImageMagick cannot read EXR here: {}", String::from_utf8_lossy(&probe.stderr));
+        }
+    }
+    // --hdr-format picks one.
+    let only = dir.join("only-exr");
+    let (code, stderr) = run(&[
+        "render",
+        "--width",
+        "32",
+        "--height",
+        "20",
+        "--frames",
+        "1",
+        "--hdr",
+        only.to_str().unwrap(),
+        "--hdr-format",
+        "exr",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(only.join("caustics.exr").exists() && !only.join("caustics.pfm").exists());
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -88,9 +88,11 @@ pub(super) fn run(args: &ReferenceArgs) -> Result<i32> {
         let Some(image) = image else { continue };
         let pfm = args.out.join(format!("{name}.pfm"));
         image_io::write_pfm(&pfm, image)?;
+        let exr = args.out.join(format!("{name}.exr"));
+        image_io::write_exr(&exr, image)?;
         let png = args.out.join(format!("{name}.png"));
         image_io::write_png(&png, image.width, image.height, &image_io::tonemap_srgb8(image, exposure * scale))?;
-        println!("wrote {} and {}", pfm.display(), png.display());
+        println!("wrote {}, {} and {}", pfm.display(), exr.display(), png.display());
     }
     if args.convergence {
         let mut doubled = args.reference.settings();

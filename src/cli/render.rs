@@ -16,9 +16,13 @@ pub(super) struct SceneArgs {
     /// Output PNG (tonemapped sRGB).
     #[arg(long, default_value = "out/underlight.png")]
     out: PathBuf,
-    /// Also write the HDR targets (scene colour, caustic irradiance, …) as PFM into this folder.
+    /// Also write the HDR targets (scene colour, caustic irradiance, …) into this folder, as PFM
+    /// and OpenEXR (`--hdr-format`).
     #[arg(long, value_name = "DIR")]
     hdr: Option<PathBuf>,
+    /// The HDR files' format: PFM, OpenEXR (float32 RGB), or both side by side.
+    #[arg(long, value_enum, default_value_t = HdrFormat::Both, requires = "hdr")]
+    hdr_format: HdrFormat,
     /// Output size; defaults to the scene's.
     #[arg(long, value_parser = output_side)]
     width: Option<u32>,
@@ -48,6 +52,14 @@ pub(super) struct SceneArgs {
     /// (distance-sized points) or triangles (warped-cell triangles).
     #[arg(long, value_name = "NAME", value_parser = caustic_estimator)]
     caustic_estimator: Option<underlight::scene::CausticEstimator>,
+}
+
+/// `--hdr-format`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub(super) enum HdrFormat {
+    Pfm,
+    Exr,
+    Both,
 }
 
 pub(super) fn run(cli: &Cli, args: &SceneArgs) -> Result<i32> {
@@ -128,9 +140,16 @@ pub(super) fn run(cli: &Cli, args: &SceneArgs) -> Result<i32> {
             }
         }
         for (name, img) in dumps {
-            let path = dir.join(format!("{name}.pfm"));
-            image_io::write_pfm(&path, img)?;
-            println!("wrote {}", path.display());
+            if args.hdr_format != HdrFormat::Exr {
+                let path = dir.join(format!("{name}.pfm"));
+                image_io::write_pfm(&path, img)?;
+                println!("wrote {}", path.display());
+            }
+            if args.hdr_format != HdrFormat::Pfm {
+                let path = dir.join(format!("{name}.exr"));
+                image_io::write_exr(&path, img)?;
+                println!("wrote {}", path.display());
+            }
         }
         // The effect buffers also as PNGs at the exposure `reference` writes its own with, so
         // the two sit side by side.
