@@ -17,4 +17,4 @@ cargo clippy --all-targets --quiet -- -D warnings
 # Without a GPU the only driver is lavapipe; with one, UNDERLIGHT_DEVICE may pick it.
 # Benchmarks first (each runs once), so the run closes on the test summary.
 cargo test --benches "$@"
-cargo test --lib --bins --tests "$@"
+cargo test --lib --bins --tests --examples "$@"

@@ -8,7 +8,31 @@
 //! - [`shader_math`]: the Rust twin of the shared GLSL math.
 //! - [`headless`], [`image_io`]: off-screen rendering and its files.
 //! - [`grid_splat`]: the foundation's demo, outside the method's passes.
-//! - [`reference`], [`metrics`]: the CPU reference and the GPU frame's error against it.
+//! - [`mod@reference`], [`metrics`]: the CPU reference and the GPU frame's error against it.
+//!
+//! # Rendering from Rust
+//!
+//! Load a scene with [`scene::load`] (a built-in name or a `.toml` path), make a device with
+//! [`vk::Context::new`], render with [`headless::SceneRenderer`], and read the HDR buffers
+//! ([`headless::SceneImages`]: scene colour, caustic irradiance, godray radiance, in physical
+//! units) and the per-pass GPU times ([`frame::PassTimings`]). `examples/render_headless.rs`
+//! does all of it:
+//!
+//! ```no_run
+//! use underlight::vk::{vk, Context, ContextDesc};
+//! let scene = underlight::scene::load("tank")?;
+//! let ctx = Context::new(&ContextDesc::from_env())?;
+//! let extent = vk::Extent2D { width: 320, height: 200 };
+//! let (timings, images) = {
+//!     let mut renderer = underlight::headless::SceneRenderer::new(&ctx.device, &scene, extent)?;
+//!     renderer.render(3, 1.0, 1.0 / 60.0, true)?
+//! };
+//! let caustics = images.unwrap().caustics.expect("the tank has caustics"); // W/m²
+//! println!("caustics {}×{}", caustics.width, caustics.height);
+//! println!("{}", underlight::headless::median_timings(&timings));
+//! assert!(ctx.shutdown().is_clean());
+//! # Ok::<(), anyhow::Error>(())
+//! ```
 #![warn(unsafe_op_in_unsafe_fn)]
 // `!(x > 0.0)` is how this code rejects NaN together with out-of-range values (a NaN fails
 // every comparison); `partial_cmp` spelled out would hide that intent, not clarify it.
