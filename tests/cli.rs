@@ -91,3 +91,40 @@ fn hdr_buffers_are_written_as_pfm_and_openexr() {
     assert!(only.join("caustics.exr").exists() && !only.join("caustics.pfm").exists());
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn tune_picks_a_setting_or_says_how_close_it_came() {
+    let dir = std::env::temp_dir().join(format!("underlight-tune-{}", std::process::id()));
+    let common = |bound: &str| -> Vec<String> {
+        let mut v: Vec<String> =
+            ["tune", "--quick", "--width", "64", "--height", "40", "--photons", "200000", "--beams", "50000"]
+                .iter()
+                .map(|s| s.to_string())
+                .collect();
+        v.extend(["--cache".into(), dir.join("cache").display().to_string()]);
+        v.extend(["--out".into(), dir.join("out").display().to_string(), "--max-error".into(), bound.into()]);
+        v
+    };
+    let output = |args: Vec<String>| Command::new(env!("CARGO_BIN_EXE_underlight")).args(args).output().unwrap();
+    // Any setting meets a loose bound: the cheapest is picked and printed as scene-file text.
+    let loose = output(common("100"));
+    let stdout = String::from_utf8_lossy(&loose.stdout);
+    assert!(loose.status.success(), "{}", String::from_utf8_lossy(&loose.stderr));
+    let block = &stdout[stdout.find("[effects]").expect("an [effects] block")..];
+    assert!(block.contains("caustic_estimator = ") && block.contains("caustic_grid = "), "{block}");
+    assert!(dir.join("out/tune.md").is_file() && dir.join("out/tune.png").is_file());
+    // The block is a valid [effects] table of a scene file: splice it into the tank's.
+    let tank = std::fs::read_to_string(underlight::scene::file::scene_path("tank")).unwrap();
+    let spliced = format!("{}{block}", &tank[..tank.find("[effects]").unwrap()]);
+    let origin = underlight::scene::file::scene_path("tank");
+    underlight::scene::file::load_str(&spliced, &origin).expect("the printed block loads");
+    // An unreachable bound: a non-zero exit naming the best error measured.
+    let tight = output(common("0.0001"));
+    let stderr = String::from_utf8_lossy(&tight.stderr);
+    assert_eq!(tight.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("no setting reaches an error of 0.000") && stderr.contains("the best measured is"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -16,7 +16,7 @@ use anyhow::Result;
 use std::sync::Arc;
 
 /// One setting's figures.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct SweepRow {
     pub caustic_grid: u32,
     pub caustic_subdivision: u32,

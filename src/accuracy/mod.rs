@@ -6,13 +6,17 @@
 //! - `configs`: the settings a sweep varies and the sweep's own.
 //! - `measure`: each setting's GPU time and error against the reference.
 //! - `report`: the Pareto front, CSV, table and plot.
+//! - `tune`: the setting a user asks for (`underlight tune`): the cheapest under an error
+//!   bound, or the most accurate within a time budget.
 
 mod configs;
 mod measure;
 mod reference_cache;
 mod report;
+mod tune;
 
 pub use configs::{SweepAxes, SweepSpec};
 pub use measure::{run_sweep, SweepRow};
 pub use reference_cache::{cached_reference, default_cache_dir, Progress};
 pub use report::{csv, mark_pareto, plot, ranked_error, table};
+pub use tune::{effects_block, pick, tune_error, TuneGoal, TuneMiss};

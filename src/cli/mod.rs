@@ -9,6 +9,7 @@ mod reference;
 mod render;
 mod shaders;
 mod sweep;
+mod tune;
 mod view;
 
 use anyhow::{bail, Context as _, Result};
@@ -52,6 +53,9 @@ enum Command {
     /// What the low-resolution effect buffers cost at object edges: the scene as set against
     /// the same frame with its caustic and godray targets at full resolution.
     Edges(edges::EdgesArgs),
+    /// State the trade: the cheapest settings under an error bound (or the most accurate
+    /// within a GPU-time budget) on this device, as an [effects] block for the scene file.
+    Tune(tune::TuneArgs),
 }
 
 fn context_desc(cli: &Cli) -> ContextDesc {
@@ -74,6 +78,7 @@ pub(crate) fn run(cli: Cli) -> Result<i32> {
         Command::Bench(args) => bench::run(&cli, args),
         Command::GridSplat(args) => grid_splat::run(&cli, args),
         Command::Edges(args) => edges::run(&cli, args),
+        Command::Tune(args) => tune::run(&cli, args),
     }
 }
 

@@ -1,0 +1,120 @@
+//! `underlight tune`: the user states the trade (an error bound, or a GPU-time budget) and
+//! gets the `[effects]` settings that meet it on this device, from a sweep over the
+//! estimators and photon grids against the cached reference.
+
+use super::reference::ReferenceOptions;
+use super::{context_desc, finish, output_side, Cli};
+use anyhow::{bail, Context as _, Result};
+use std::path::PathBuf;
+use underlight::accuracy::{self, SweepAxes, TuneGoal};
+use underlight::scene::CausticEstimator;
+use underlight::vk::Context;
+
+#[derive(clap::Args)]
+pub(super) struct TuneArgs {
+    /// A built-in scene (tank, port, storage) or a path to a scene .toml file.
+    #[arg(long, default_value = "tank")]
+    scene: String,
+    /// The largest relative RMSE of the caustic and the godray buffer: the cheapest setting
+    /// that meets it is picked.
+    #[arg(long, value_name = "E", required_unless_present = "budget_ms", conflicts_with = "budget_ms")]
+    max_error: Option<f64>,
+    /// Instead: the most accurate setting whose effect passes take at most this many GPU ms.
+    #[arg(long, value_name = "T")]
+    budget_ms: Option<f64>,
+    /// A small set of settings (3) and frames, for a first answer in about two minutes on lavapipe.
+    #[arg(long)]
+    quick: bool,
+    /// The size every setting renders and is compared at.
+    #[arg(long, value_parser = output_side, default_value_t = 320)]
+    width: u32,
+    #[arg(long, value_parser = output_side, default_value_t = 200)]
+    height: u32,
+    /// Folder for the table and the plot of the settings it chose from.
+    #[arg(long, default_value = "out/tune")]
+    out: PathBuf,
+    #[command(flatten)]
+    reference: ReferenceOptions,
+}
+
+pub(super) fn run(cli: &Cli, args: &TuneArgs) -> Result<i32> {
+    if cli.validation {
+        bail!("tune measures GPU time with validation off: drop --validation");
+    }
+    let goal = match (args.max_error, args.budget_ms) {
+        (Some(e), _) if !(e > 0.0 && e.is_finite()) => bail!("--max-error {e}: must be a positive number"),
+        (_, Some(t)) if !(t > 0.0 && t.is_finite()) => bail!("--budget-ms {t}: must be a positive number"),
+        (Some(e), _) => TuneGoal::MaxError(e),
+        (None, Some(t)) => TuneGoal::BudgetMs(t),
+        (None, None) => bail!("give --max-error E or --budget-ms T"),
+    };
+    let scene = underlight::scene::load(&args.scene)?;
+    // The candidates: the triangle estimator over photon meshes from coarse to fine, and the
+    // paper's filtered points, each at its own best subdivision (docs/accuracy.md).
+    let (triangle_grids, paper_grids, frames, warmup) =
+        if args.quick { (vec![48, 100], vec![100], 2, 1) } else { (vec![48, 100, 150, 200], vec![100, 200], 5, 2) };
+    let candidates = [
+        SweepAxes {
+            grid: triangle_grids,
+            subdivision: vec![3],
+            filter: vec![true],
+            estimator: vec![CausticEstimator::Triangles],
+            ..Default::default()
+        },
+        SweepAxes {
+            grid: paper_grids,
+            subdivision: vec![2],
+            filter: vec![true],
+            estimator: vec![CausticEstimator::Paper],
+            ..Default::default()
+        },
+    ];
+    std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+    let ctx = Context::new(&context_desc(cli))?;
+    println!("device: {}", ctx.device.info.describe());
+    let mut rows = Vec::new();
+    for axes in candidates {
+        let spec = accuracy::SweepSpec {
+            scene: &scene,
+            output: [args.width, args.height],
+            axes,
+            time: 1.0,
+            step: 1.0 / 30.0,
+            frames,
+            warmup,
+            reference: args.reference.settings(),
+            cache_dir: args.reference.cache_dir(),
+        };
+        rows.extend(accuracy::run_sweep(&ctx.device, &spec)?);
+    }
+    accuracy::mark_pareto(&mut rows);
+    let table = accuracy::table(&rows);
+    println!("\nthe settings measured (error = the worse of the caustic and godray relative RMSE):\n{table}");
+    let md = args.out.join("tune.md");
+    std::fs::write(&md, format!("device: {}\n\n{table}", ctx.device.info.describe()))
+        .with_context(|| format!("writing {}", md.display()))?;
+    let png = args.out.join("tune.png");
+    accuracy::plot(&rows, &format!("{}: error vs GPU time ({})", scene.name, ctx.device.info.name), &png)?;
+    println!("wrote {} and {}", md.display(), png.display());
+    match accuracy::pick(&rows, goal) {
+        Ok(row) => {
+            println!(
+                "\npicked: {} estimator, {}² × {}² photons: error {:.3} (caustics {:.3}, godrays {:.3}) in {:.1} ms of effect passes",
+                row.estimator,
+                row.caustic_grid,
+                row.caustic_subdivision,
+                accuracy::tune_error(row),
+                row.caustics.map_or(0.0, |e| e.relative_rmse),
+                row.godrays.map_or(0.0, |e| e.relative_rmse),
+                row.effect_ms
+            );
+            println!("for the scene file:\n\n{}", accuracy::effects_block(row));
+            Ok(finish(ctx))
+        }
+        Err(miss) => {
+            eprintln!("error: {miss}");
+            let _ = finish(ctx);
+            Ok(1)
+        }
+    }
+}
