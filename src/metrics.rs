@@ -9,7 +9,7 @@ use anyhow::{bail, Result};
 /// over the RGB channels of every pixel. Relative figures are normalised by the reference's
 /// mean, not per pixel: most pixels of a caustic buffer are near zero somewhere, and a
 /// per-pixel ratio would be dominated by them.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct BufferError {
     /// √(mean (test − ref)²) / mean ref.
     pub relative_rmse: f64,

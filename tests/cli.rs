@@ -28,6 +28,8 @@ fn bad_command_lines_are_named_errors() {
         (vec!["render".into(), "--look-at".into(), "0,nan,1".into()], "--look-at takes three finite numbers"),
         (vec!["render".into(), "--camera".into(), "1,x,3".into()], "--camera"),
         (vec!["render".into(), "--camera=0,1,0".into(), "--look-at=0,1,0".into()], "the same point"),
+        (vec!["view".into(), "--sweep".into(), "/nonexistent/sweep.json".into()], "--sweep /nonexistent/sweep.json"),
+        (vec!["tune".into(), "--max-error=0".into()], "--max-error 0: must be a positive number"),
     ];
     for (args, expected) in cases {
         let args: Vec<&str> = args.iter().map(String::as_str).collect();

@@ -47,9 +47,46 @@ fn viewer_sessions_under_xvfb() {
          preset:high,frames:1,preset:default,toggle:godrays,screenshot:{},frames:1,estimator,frames:1",
         shot.display()
     );
-    let out = under_xvfb(&["view", "--scene", "tank", "--width", "240", "--height", "240", "--script", &script]);
+    // A sweep of the tank at its shipped setting: the timing line shows its measured error.
+    let sweep = dir.join("sweep.json");
+    let row = |estimator: &str, grid: u32, subdivision: u32, caustic: f64| underlight::accuracy::SweepRow {
+        scene: "tank".into(),
+        caustic_grid: grid,
+        caustic_subdivision: subdivision,
+        caustic_photons: ((grid * subdivision) as u64).pow(2),
+        iterations: 5,
+        caustic_target: [154, 154],
+        point_size_max: 20.0,
+        line_width: 1.0,
+        filter: true,
+        estimator: estimator.into(),
+        effect_ms: 1.0,
+        frame_ms: 1.0,
+        caustics: Some(underlight::metrics::BufferError { relative_rmse: caustic, ..Default::default() }),
+        godrays: Some(underlight::metrics::BufferError { relative_rmse: 0.098, ..Default::default() }),
+        flip: 0.1,
+        caustic_change_gpu: 1.0,
+        caustic_change_reference: 1.0,
+        pareto: true,
+    };
+    let rows = [row("triangles", 48, 3, 1.172), row("triangles", 100, 3, 0.662), row("paper", 200, 2, 1.519)];
+    std::fs::write(&sweep, serde_json::to_string(&rows).unwrap()).unwrap();
+    let out = under_xvfb(&[
+        "view",
+        "--scene",
+        "tank",
+        "--width",
+        "240",
+        "--height",
+        "240",
+        "--sweep",
+        sweep.to_str().unwrap(),
+        "--script",
+        &script,
+    ]);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.contains("presented 14 frames"), "{stdout}");
+    assert!(stdout.contains("est. error 0.66 (sweep: triangles 100² × 3²)"), "no error estimate in:\n{stdout}");
     // The estimator step switched to the one the tank does not ship.
     let shipped = underlight::scene::load("tank").unwrap().effects.caustic_estimator;
     let other = underlight::scene::CausticEstimator::ALL.into_iter().find(|e| *e != shipped).unwrap();

@@ -16,8 +16,10 @@ use anyhow::Result;
 use std::sync::Arc;
 
 /// One setting's figures.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SweepRow {
+    /// The scene's name (a viewer looking up its settings' error matches on it).
+    pub scene: String,
     pub caustic_grid: u32,
     pub caustic_subdivision: u32,
     pub caustic_photons: u64,
@@ -27,7 +29,7 @@ pub struct SweepRow {
     pub line_width: f32,
     pub filter: bool,
     /// `CausticEstimator::name`.
-    pub estimator: &'static str,
+    pub estimator: String,
     /// Median GPU ms of the passes the settings change: shadow, caustics, godrays, filter.
     pub effect_ms: f64,
     /// Median GPU ms of the whole frame (all passes).
@@ -110,6 +112,7 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
             _ => Ok(0.0),
         };
         rows.push(SweepRow {
+            scene: scene.name.clone(),
             caustic_grid: e.caustic_grid,
             caustic_subdivision: e.caustic_subdivision,
             caustic_photons: ((e.caustic_grid * e.caustic_subdivision) as u64).pow(2),
@@ -118,7 +121,7 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
             point_size_max: e.point_size_max,
             line_width: e.line_width,
             filter: e.filter,
-            estimator: e.caustic_estimator.name(),
+            estimator: e.caustic_estimator.name().to_string(),
             effect_ms,
             frame_ms,
             caustics: error(gpu_c, &reference.caustics)?,

@@ -19,4 +19,4 @@ pub use configs::{SweepAxes, SweepSpec};
 pub use measure::{run_sweep, SweepRow};
 pub use reference_cache::{cached_reference, default_cache_dir, Progress};
 pub use report::{csv, mark_pareto, plot, ranked_error, table};
-pub use tune::{effects_block, pick, tune_error, TuneGoal, TuneMiss};
+pub use tune::{effects_block, nearest_setting, pick, tune_error, TuneGoal, TuneMiss};

@@ -55,6 +55,20 @@ pub fn pick(rows: &[SweepRow], goal: TuneGoal) -> Result<&SweepRow, TuneMiss> {
     }
 }
 
+/// The measured setting nearest to `effects` on `scene`: the same estimator, the nearest
+/// photon count (by ratio), then the same filter and iteration count. None where the sweep
+/// measured no setting of that scene and estimator.
+pub fn nearest_setting<'a>(rows: &'a [SweepRow], scene: &str, effects: &crate::scene::Effects) -> Option<&'a SweepRow> {
+    let photons = ((effects.caustic_grid * effects.caustic_subdivision) as f64).powi(2);
+    let distance = |r: &SweepRow| {
+        let ratio = (r.caustic_photons.max(1) as f64 / photons.max(1.0)).ln().abs();
+        (ratio, r.filter != effects.filter, r.iterations.abs_diff(effects.iterations))
+    };
+    rows.iter()
+        .filter(|r| r.scene == scene && r.estimator == effects.caustic_estimator.name())
+        .min_by(|a, b| distance(a).partial_cmp(&distance(b)).unwrap_or(std::cmp::Ordering::Equal))
+}
+
 /// The `[effects]` table of a scene file with the picked setting (what the sweep varied).
 pub fn effects_block(row: &SweepRow) -> String {
     format!(
@@ -71,15 +85,16 @@ mod tests {
     fn row(ms: f64, caustic: f64, godray: f64) -> SweepRow {
         let e = |r| Some(BufferError { relative_rmse: r, ..Default::default() });
         SweepRow {
+            scene: "tank".into(),
             caustic_grid: (ms as u32).max(1),
             caustic_subdivision: 3,
-            caustic_photons: 0,
+            caustic_photons: ((ms as u64).max(1) * 3).pow(2),
             iterations: 5,
             caustic_target: [1, 1],
             point_size_max: 1.0,
             line_width: 1.0,
             filter: true,
-            estimator: "triangles",
+            estimator: "triangles".into(),
             effect_ms: ms,
             frame_ms: ms,
             caustics: e(caustic),
@@ -108,6 +123,13 @@ mod tests {
             Err(TuneMiss::BudgetTooSmall { budget: 50.0, fastest: 100.0, error: 1.2 })
         );
         assert_eq!(pick(&[], TuneGoal::MaxError(1.0)), Err(TuneMiss::NoRows));
+        let mut effects = crate::scene::Effects::default();
+        effects.caustic_estimator = crate::scene::CausticEstimator::Triangles;
+        (effects.caustic_grid, effects.caustic_subdivision) = (310, 3);
+        assert_eq!(nearest_setting(&rows, "tank", &effects).unwrap().caustic_grid, 300);
+        assert!(nearest_setting(&rows, "port", &effects).is_none(), "another scene's sweep");
+        effects.caustic_estimator = crate::scene::CausticEstimator::Paper;
+        assert!(nearest_setting(&rows, "tank", &effects).is_none(), "another estimator's rows");
         let block = effects_block(&rows[1]);
         assert!(block.starts_with("[effects]\n") && block.contains("caustic_grid = 300"), "{block}");
     }

@@ -37,6 +37,10 @@ pub(super) struct ViewArgs {
     /// passes for the water seen from above exist and run in the frames that need them).
     #[arg(long)]
     explain: bool,
+    /// A sweep's sweep.json (`underlight sweep --out DIR`): the title shows the error measured
+    /// for the swept setting nearest to the current one. Default: out/sweep/sweep.json if present.
+    #[arg(long, value_name = "FILE")]
+    sweep: Option<PathBuf>,
 }
 
 pub(super) fn run(cli: &Cli, args: &ViewArgs) -> Result<i32> {
@@ -72,6 +76,12 @@ pub(super) fn run(cli: &Cli, args: &ViewArgs) -> Result<i32> {
         Some(text) => script::parse(text)?,
         None => Vec::new(),
     };
+    // The sweep is optional: a missing default file gives no estimate; a named file that
+    // cannot be read, or is not a sweep, is an error naming it.
+    let sweep = match &args.sweep {
+        Some(path) => read_sweep(path)?,
+        None => read_sweep(std::path::Path::new("out/sweep/sweep.json")).unwrap_or_default(),
+    };
     let report = viewer::run(ViewerOptions {
         scene,
         context: context_desc(cli),
@@ -82,6 +92,7 @@ pub(super) fn run(cli: &Cli, args: &ViewArgs) -> Result<i32> {
         screenshot: args.screenshot.clone(),
         time: args.time,
         paused: args.paused,
+        sweep,
     })?;
     println!("presented {} frames", report.frames_presented);
     let per_pass: Vec<String> = report.pass_frames.iter().map(|(id, n)| format!("{id} {n}")).collect();
@@ -93,4 +104,12 @@ pub(super) fn run(cli: &Cli, args: &ViewArgs) -> Result<i32> {
         eprintln!("error: Vulkan validation or leak report is not clean");
         Ok(2)
     }
+}
+
+/// A sweep's rows from its JSON file.
+fn read_sweep(path: &std::path::Path) -> Result<Vec<underlight::accuracy::SweepRow>> {
+    use anyhow::Context as _;
+    let text = std::fs::read_to_string(path).with_context(|| format!("--sweep {}: cannot read it", path.display()))?;
+    serde_json::from_str(&text)
+        .with_context(|| format!("--sweep {}: not the sweep.json `underlight sweep` writes", path.display()))
 }

@@ -53,6 +53,9 @@ pub struct ViewerOptions {
     /// Animation time at start, and whether time starts paused.
     pub time: f32,
     pub paused: bool,
+    /// A sweep's rows (`underlight sweep`'s sweep.json): the window title shows the error it
+    /// measured for the setting nearest to the current one. Empty: no estimate.
+    pub sweep: Vec<crate::accuracy::SweepRow>,
 }
 
 /// What a viewer session ended with.
@@ -144,6 +147,8 @@ struct View {
     /// When the last redraw began: the time since moves the camera, and the animation when
     /// it runs in real time.
     last_instant: Instant,
+    /// The sweep whose measured errors the title shows (`ViewerOptions::sweep`).
+    sweep: Vec<crate::accuracy::SweepRow>,
 }
 
 impl ApplicationHandler for App {
@@ -251,6 +256,7 @@ impl Live {
             paused: options.paused,
             step_once: false,
             last_instant: Instant::now(),
+            sweep: options.sweep.clone(),
         };
         let mut live = Self {
             gpu,
@@ -354,7 +360,9 @@ impl Live {
             gpu.ring.finish(|_, _| {})?;
             gpu.save_screenshot(&path)?;
         }
-        self.timings.report(&self.window, &self.view.scene.name, self.frames_rendered);
+        let v = &self.view;
+        let nearest = crate::accuracy::nearest_setting(&v.sweep, &v.loaded.name, &v.scene.effects);
+        self.timings.report(&self.window, &v.scene.name, nearest, self.frames_rendered);
         if !ok {
             let size = self.window.inner_size();
             self.resize(size)?;

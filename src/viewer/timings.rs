@@ -64,7 +64,14 @@ impl Timings {
     }
 
     /// Puts the per-pass GPU times in the title twice a second and on the terminal every 2 s.
-    pub(super) fn report(&mut self, window: &Window, scene_name: &str, frames_rendered: u64) {
+    /// `nearest`: the swept setting nearest to the current one, whose measured error is shown.
+    pub(super) fn report(
+        &mut self,
+        window: &Window,
+        scene_name: &str,
+        nearest: Option<&crate::accuracy::SweepRow>,
+        frames_rendered: u64,
+    ) {
         self.frames_since_report += 1;
         let elapsed = self.last_report.elapsed();
         if elapsed < Duration::from_millis(500) || self.recent.is_empty() {
@@ -75,7 +82,16 @@ impl Timings {
         let median = median_timings(&frames);
         let fps = self.frames_since_report as f64 / elapsed.as_secs_f64();
         let passes: Vec<String> = median.passes.iter().map(|(id, ms)| format!("{} {:.1}", id.name(), ms)).collect();
-        let line = format!("{:.1} fps | GPU ms: {} | total {:.1}", fps, passes.join(" "), median.total_ms());
+        let mut line = format!("{:.1} fps | GPU ms: {} | total {:.1}", fps, passes.join(" "), median.total_ms());
+        if let Some(row) = nearest {
+            line += &format!(
+                " | est. error {:.2} (sweep: {} {}² × {}²)",
+                crate::accuracy::tune_error(row),
+                row.estimator,
+                row.caustic_grid,
+                row.caustic_subdivision
+            );
+        }
         window.set_title(&format!("underlight — {scene_name} — {line}"));
         if frames_rendered.is_multiple_of(4) || elapsed > Duration::from_secs(2) {
             println!("{line}");
