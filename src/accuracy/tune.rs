@@ -123,9 +123,12 @@ mod tests {
             Err(TuneMiss::BudgetTooSmall { budget: 50.0, fastest: 100.0, error: 1.2 })
         );
         assert_eq!(pick(&[], TuneGoal::MaxError(1.0)), Err(TuneMiss::NoRows));
-        let mut effects = crate::scene::Effects::default();
-        effects.caustic_estimator = crate::scene::CausticEstimator::Triangles;
-        (effects.caustic_grid, effects.caustic_subdivision) = (310, 3);
+        let mut effects = crate::scene::Effects {
+            caustic_estimator: crate::scene::CausticEstimator::Triangles,
+            caustic_grid: 310,
+            caustic_subdivision: 3,
+            ..Default::default()
+        };
         assert_eq!(nearest_setting(&rows, "tank", &effects).unwrap().caustic_grid, 300);
         assert!(nearest_setting(&rows, "port", &effects).is_none(), "another scene's sweep");
         effects.caustic_estimator = crate::scene::CausticEstimator::Paper;
