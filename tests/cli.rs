@@ -108,18 +108,26 @@ fn tune_picks_a_setting_or_says_how_close_it_came() {
         v
     };
     let output = |args: Vec<String>| Command::new(env!("CARGO_BIN_EXE_underlight")).args(args).output().unwrap();
-    // Any setting meets a loose bound: the cheapest is picked and printed as scene-file text.
-    let loose = output(common("100"));
+    // Any setting meets a loose bound: the cheapest is picked, printed as scene-file text and
+    // written as a whole scene file.
+    let tuned = dir.join("tuned.toml");
+    let mut args = common("100");
+    args.extend(["--write".into(), tuned.display().to_string()]);
+    let loose = output(args);
     let stdout = String::from_utf8_lossy(&loose.stdout);
     assert!(loose.status.success(), "{}", String::from_utf8_lossy(&loose.stderr));
     let block = &stdout[stdout.find("[effects]").expect("an [effects] block")..];
+    let block = &block[..block.find("\nwrote ").map_or(block.len(), |end| end + 1)];
     assert!(block.contains("caustic_estimator = ") && block.contains("caustic_grid = "), "{block}");
     assert!(dir.join("out/tune.md").is_file() && dir.join("out/tune.png").is_file());
     // The block is a valid [effects] table of a scene file: splice it into the tank's.
     let tank = std::fs::read_to_string(underlight::scene::file::scene_path("tank")).unwrap();
     let spliced = format!("{}{block}", &tank[..tank.find("[effects]").unwrap()]);
     let origin = underlight::scene::file::scene_path("tank");
-    underlight::scene::file::load_str(&spliced, &origin).expect("the printed block loads");
+    let printed = underlight::scene::file::load_str(&spliced, &origin).expect("the printed block loads");
+    let written = underlight::scene::load(tuned.to_str().unwrap()).expect("the written scene loads");
+    assert_eq!(written.effects, printed.effects, "the written file holds the printed settings");
+    assert_eq!(written.meshes.len(), printed.meshes.len(), "the written file finds the tank's meshes");
     // An unreachable bound: a non-zero exit naming the best error measured.
     let tight = output(common("0.0001"));
     let stderr = String::from_utf8_lossy(&tight.stderr);

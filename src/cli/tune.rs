@@ -30,6 +30,10 @@ pub(super) struct TuneArgs {
     width: u32,
     #[arg(long, value_parser = output_side, default_value_t = 200)]
     height: u32,
+    /// Also write the scene file with the picked settings here: the scene's own file with its
+    /// [effects] keys that tune varies replaced, and its OBJ paths made absolute.
+    #[arg(long, value_name = "FILE")]
+    write: Option<PathBuf>,
     /// Folder for the table and the plot of the settings it chose from.
     #[arg(long, default_value = "out/tune")]
     out: PathBuf,
@@ -109,6 +113,10 @@ pub(super) fn run(cli: &Cli, args: &TuneArgs) -> Result<i32> {
                 row.effect_ms
             );
             println!("for the scene file:\n\n{}", accuracy::effects_block(row));
+            if let Some(path) = &args.write {
+                write_scene(&args.scene, row, path)?;
+                println!("wrote {}", path.display());
+            }
             Ok(finish(ctx))
         }
         Err(miss) => {
@@ -117,4 +125,42 @@ pub(super) fn run(cli: &Cli, args: &TuneArgs) -> Result<i32> {
             Ok(1)
         }
     }
+}
+
+/// Writes the scene file `scene` (a built-in name or a path) with the picked setting: its own
+/// text, every other key and comment kept, the tuned `[effects]` keys set, and each object's
+/// `obj` made absolute so the file loads from wherever it is written. Loaded back to check.
+fn write_scene(scene: &str, row: &underlight::accuracy::SweepRow, path: &std::path::Path) -> Result<()> {
+    let source = underlight::scene::file::scene_path(scene);
+    let text = std::fs::read_to_string(&source).with_context(|| format!("reading {}", source.display()))?;
+    let mut doc: toml_edit::DocumentMut = text.parse().with_context(|| format!("parsing {}", source.display()))?;
+    let base = source.parent().unwrap_or(std::path::Path::new(".")).canonicalize()?;
+    if let Some(objects) = doc.get_mut("objects").and_then(|o| o.as_array_of_tables_mut()) {
+        for object in objects.iter_mut() {
+            if let Some(obj) = object.get("obj").and_then(|v| v.as_str()) {
+                let absolute = base.join(obj);
+                object["obj"] = toml_edit::value(absolute.to_string_lossy().into_owned());
+            }
+        }
+    }
+    if !doc.contains_table("effects") {
+        doc["effects"] = toml_edit::table();
+    }
+    let effects = &mut doc["effects"];
+    effects["caustic_estimator"] = toml_edit::value(row.estimator.clone());
+    effects["caustic_grid"] = toml_edit::value(i64::from(row.caustic_grid));
+    effects["caustic_subdivision"] = toml_edit::value(i64::from(row.caustic_subdivision));
+    effects["iterations"] = toml_edit::value(i64::from(row.iterations));
+    effects["filter"] = toml_edit::value(row.filter);
+    let header = format!(
+        "# Written by `underlight tune` from {}: its [effects] set to the setting it picked\n# ({} estimator, {}² × {}² photons). The lines below are the source's.\n",
+        source.display(),
+        row.estimator,
+        row.caustic_grid,
+        row.caustic_subdivision
+    );
+    std::fs::write(path, header + &doc.to_string()).with_context(|| format!("writing {}", path.display()))?;
+    underlight::scene::load(&path.to_string_lossy())
+        .with_context(|| format!("the scene written to {} does not load", path.display()))?;
+    Ok(())
 }
