@@ -361,8 +361,7 @@ impl Live {
             gpu.save_screenshot(&path)?;
         }
         let v = &self.view;
-        let nearest = crate::accuracy::nearest_setting(&v.sweep, &v.loaded.name, &v.scene.effects);
-        self.timings.report(&self.window, &v.scene.name, nearest, self.frames_rendered);
+        self.timings.report(&self.window, &v.scene, &v.sweep, self.frames_rendered);
         if !ok {
             let size = self.window.inner_size();
             self.resize(size)?;

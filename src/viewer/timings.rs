@@ -64,12 +64,13 @@ impl Timings {
     }
 
     /// Puts the per-pass GPU times in the title twice a second and on the terminal every 2 s.
-    /// `nearest`: the swept setting nearest to the current one, whose measured error is shown.
+    /// `sweep`: a sweep's rows; the error it measured for the setting nearest to the scene's
+    /// current one is shown with the times.
     pub(super) fn report(
         &mut self,
         window: &Window,
-        scene_name: &str,
-        nearest: Option<&crate::accuracy::SweepRow>,
+        scene: &crate::scene::Scene,
+        sweep: &[crate::accuracy::SweepRow],
         frames_rendered: u64,
     ) {
         self.frames_since_report += 1;
@@ -83,7 +84,7 @@ impl Timings {
         let fps = self.frames_since_report as f64 / elapsed.as_secs_f64();
         let passes: Vec<String> = median.passes.iter().map(|(id, ms)| format!("{} {:.1}", id.name(), ms)).collect();
         let mut line = format!("{:.1} fps | GPU ms: {} | total {:.1}", fps, passes.join(" "), median.total_ms());
-        if let Some(row) = nearest {
+        if let Some(row) = crate::accuracy::nearest_setting(sweep, &scene.name, &scene.effects) {
             line += &format!(
                 " | est. error {:.2} (sweep: {} {}² × {}²)",
                 crate::accuracy::tune_error(row),
@@ -92,7 +93,7 @@ impl Timings {
                 row.caustic_subdivision
             );
         }
-        window.set_title(&format!("underlight — {scene_name} — {line}"));
+        window.set_title(&format!("underlight — {} — {line}", scene.name));
         if frames_rendered.is_multiple_of(4) || elapsed > Duration::from_secs(2) {
             println!("{line}");
         }
