@@ -330,6 +330,41 @@ pub fn regulated_point_size(d_view: f32, z_near: f32, z_far: f32, s_min: f32, s_
 }
 
 // ---------------------------------------------------------------------------------------
+// Caustic slivers (GLSL: shader_math.glsl, "Caustic slivers").
+const FOOTPRINT_OFFSET_STEPS: f32 = 128.0;
+const FOOTPRINT_AXIS_CODES: f32 = 2.0 * FOOTPRINT_OFFSET_STEPS;
+const FOOTPRINT_SIDE_STEPS: f32 = 16.0;
+
+/// GLSL `sliver_footprint_code`: the code of a sliver's footprint, a square of side `side`
+/// pixels centred on `c` (target pixels; pixel edges at integers).
+pub fn sliver_footprint_code(c: Vec2, side: f32) -> f32 {
+    let edge = (c + 0.5).floor();
+    let half = FOOTPRINT_OFFSET_STEPS / 2.0;
+    let offset = ((c - edge) * FOOTPRINT_OFFSET_STEPS).round().clamp(Vec2::splat(-half), Vec2::splat(half - 1.0));
+    let parity = Vec2::new(glsl_mod(edge.x, 2.0), glsl_mod(edge.y, 2.0));
+    let axis = parity * FOOTPRINT_OFFSET_STEPS + offset + half;
+    let s = (side * FOOTPRINT_SIDE_STEPS).round().clamp(1.0, FOOTPRINT_SIDE_STEPS);
+    1.0 + axis.x + axis.y * FOOTPRINT_AXIS_CODES + (s - 1.0) * FOOTPRINT_AXIS_CODES * FOOTPRINT_AXIS_CODES
+}
+
+/// GLSL `sliver_footprint_weight`: the share of the footprint `code` that the pixel whose
+/// centre is `pixel` takes.
+pub fn sliver_footprint_weight(pixel: Vec2, code: f32) -> f32 {
+    let k = code.round() - 1.0;
+    let per_side = FOOTPRINT_AXIS_CODES * FOOTPRINT_AXIS_CODES;
+    let s = ((k / per_side).floor() + 1.0) / FOOTPRINT_SIDE_STEPS;
+    let k = glsl_mod(k, per_side);
+    let axis = Vec2::new(glsl_mod(k, FOOTPRINT_AXIS_CODES), (k / FOOTPRINT_AXIS_CODES).floor());
+    let parity = (axis / FOOTPRINT_OFFSET_STEPS).floor();
+    let offset = (axis - parity * FOOTPRINT_OFFSET_STEPS - FOOTPRINT_OFFSET_STEPS / 2.0) / FOOTPRINT_OFFSET_STEPS;
+    let overlap = |pixel: f32, parity: f32, offset: f32| {
+        let above = if glsl_mod(pixel.floor(), 2.0) == parity { 1.0 } else { 0.0 };
+        let (lo, hi) = (above - 1.0, above);
+        ((hi as f32).min(offset + 0.5 * s) - (lo as f32).max(offset - 0.5 * s)).max(0.0) / s
+    };
+    overlap(pixel.x, parity.x, offset.x) * overlap(pixel.y, parity.y, offset.y)
+}
+
 // Photon casting (GLSL: photon_cast.glsl, `cast_photon`).
 
 /// A photon that reached a receiver (GLSL `Photon`).
@@ -365,6 +400,36 @@ pub fn converged(
     let along = (off - off.dot(n) * n).length();
     let facing = n.dot(light_to_hit).abs().max(0.01);
     across <= across_allowed && along <= (3.0 * texel_size / facing).max(0.05 * dist)
+}
+
+/// GLSL `onto_receiver_plane`: the iteration's estimate `hit` (`dist` along the refracted ray
+/// from `ps`) moved onto the plane of the receiver stored at its texel (`receiver`,
+/// `receiver_normal`), where that point is still on the same receiver (`on_receiver`).
+pub fn onto_receiver_plane(
+    ps: Vec3,
+    rt: Vec3,
+    hit: Vec3,
+    dist: f32,
+    receiver: Vec3,
+    receiver_normal: Vec3,
+    on_receiver: impl Fn(Vec3, f32) -> bool,
+) -> (Vec3, f32) {
+    let len_n = receiver_normal.length();
+    if !(len_n > 0.5) {
+        return (hit, dist);
+    }
+    let n = receiver_normal / len_n;
+    let denom = rt.dot(n);
+    if denom.abs() <= 1e-3 {
+        return (hit, dist);
+    }
+    let t = (receiver - ps).dot(n) / denom;
+    let on_plane = ps + t * rt;
+    if t > 0.0 && on_receiver(on_plane, t) {
+        (on_plane, t)
+    } else {
+        (hit, dist)
+    }
 }
 
 /// Everything `cast_photon` reads: the frame's uniforms, the noise, and the light's
@@ -495,9 +560,13 @@ impl PhotonCaster<'_> {
         let texel_size = 2.0 * u.light_half_extent[0].max(u.light_half_extent[1]) / u.light_map_size
             * if point { (hit - light_pos).length() } else { 1.0 };
         let normal = self.light_normals.at(texel.0, texel.1);
+        let normal = Vec3::new(normal[0], normal[1], normal[2]);
         let light_to_hit = if point { (hit - light_pos).normalize() } else { Vec3::from_array(u.light_axis) };
         let receiver = Vec3::new(r[0], r[1], r[2]);
-        if !converged(hit, receiver, Vec3::new(normal[0], normal[1], normal[2]), light_to_hit, dist, texel_size) {
+        let (hit, dist) = onto_receiver_plane(ps, rt, hit, dist, receiver, normal, |h, t| {
+            converged(h, receiver, normal, light_to_hit, t, texel_size)
+        });
+        if !converged(hit, receiver, normal, light_to_hit, dist, texel_size) {
             return None;
         }
         if hit.y > w.level + w.amplitude.abs() + w.noise_amplitude.abs() {
@@ -593,6 +662,44 @@ mod tests {
         assert!((t0 - (1.0 - (0.333f32 / 2.333).powi(2))).abs() < 1e-6);
         assert!(fresnel_transmittance(0.0, 1.333) < 1e-6);
         assert!(fresnel_transmittance(0.5, 1.333) < t0);
+    }
+
+    #[test]
+    fn sliver_footprint_shares_are_its_overlaps_and_sum_to_one() {
+        // Centres and sides over many pixel positions, both parities, off-screen too.
+        let mut worst_sum = 0.0f32;
+        for i in 0..4000 {
+            let f = i as f32;
+            let c = Vec2::new(-3.0 + (f * 0.6180339).fract() * 40.0, -5.0 + (f * 0.4142135).fract() * 30.0);
+            let side = 0.02 + (f * 0.7320508).fract() * 0.98;
+            let code = sliver_footprint_code(c, side);
+            assert!(code >= 1.0 && code <= (1 << 20) as f32, "code {code} is above 2^20");
+            // The fragments a 2-pixel square centred on c covers: centres within 1 of c.
+            let mut sum = 0.0;
+            for y in (c.y - 1.0).floor() as i32..=(c.y + 1.0).ceil() as i32 {
+                for x in (c.x - 1.0).floor() as i32..=(c.x + 1.0).ceil() as i32 {
+                    let centre = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+                    if (centre - c).abs().max_element() >= 1.0 {
+                        continue;
+                    }
+                    let w = sliver_footprint_weight(centre, code);
+                    // The exact share of the square [c ± side/2] in this pixel, up to the
+                    // code's quanta (1/128 px in position, 1/16 px in side), each of which
+                    // moves a share by at most its half over the side, per axis.
+                    let span =
+                        |lo: f32, c: f32| ((lo + 1.0).min(c + side / 2.0) - lo.max(c - side / 2.0)).max(0.0) / side;
+                    let exact = span(x as f32, c.x) * span(y as f32, c.y);
+                    let quanta = 2.0 * (0.5 / 128.0 + 0.5 / 16.0) / side;
+                    assert!(
+                        (w - exact).abs() <= quanta + 1e-5,
+                        "c {c} side {side} pixel {centre}: {w} against {exact}"
+                    );
+                    sum += w;
+                }
+            }
+            worst_sum = worst_sum.max((sum - 1.0f32).abs());
+        }
+        assert!(worst_sum < 1e-5, "the shares of a sliver sum to 1 within {worst_sum}");
     }
 
     #[test]

@@ -12,21 +12,29 @@
 //   - A folded triangle (flipped by a caustic) keeps |area|.
 //   - Irradiance is per vertex, interpolated across the triangle, as the survey advises: a
 //     photon's is the flux over the area of the drawn triangles around it (those of this
-//     invocation). Flat per-triangle values showed every cell's facet, and a fold's sliver
-//     next to ordinary triangles was a spike.
+//     invocation). Flat per-triangle values showed every cell's facet. Each triangle's
+//     three vertex values are then scaled together so that their mean is the triangle's own
+//     flux over its area: the triangle deposits exactly its flux, and where the values are
+//     smooth the scale is 1. (Plain interpolation let a photon beside a fold, whose small
+//     triangles give it a high value, spread that value over its larger neighbours: +3 %
+//     flux on the tank, +10 % on the port's near seabed.)
 //   - Rasterised, the mesh's triangles tile the receivers, so each pixel centre samples the
 //     wavefront's irradiance once per sheet. A triangle much smaller than a pixel would be a
 //     firefly: of area a px², it covers a centre with probability about a and then deposits
-//     1/a times its flux. One under SLIVER_PIXELS draws as one whole pixel at its centroid
-//     instead, which covers exactly one centre and deposits exactly its flux.
+//     1/a times its flux. One under SLIVER_PIXELS is deposited as the pixels' share of its
+//     footprint instead (shader_math.glsl): exactly its flux, over the one to four pixels
+//     a square of its area centred on its centroid overlaps.
 //   - A triangle that spans a discontinuity (a corner that did not land, or corners on
 //     different receivers: a wall and the floor, a box top and the floor) would smear light
 //     over what lies between; its flux goes back to its landed corners, which draw it as
-//     the paper's points.
-// Measured on the tank at 320×200 against the reference (relative RMSE, flux), flat values:
-// threshold 0 (all rasterised) 3.44, −6.2 %; 0.125 px² 0.86, −3.1 %; 0.5 px² 0.66, −2.4 %;
-// 1 px² 0.68, −2.4 % (above 0.5 px² squares leave holes on distant floors, where photons
-// are merely dense). Per-vertex values at 0.5 px²: 0.70, +0.6 %, without the facets.
+//     squares the size of their own footprint (the drawn triangles around them), or of the
+//     paper's points where they have none.
+// Measured on the tank at 320×200 against the reference (relative RMSE, flux), with flat
+// values and slivers as one whole pixel: threshold 0 (all rasterised) 3.44, −6.2 %;
+// 0.125 px² 0.86, −3.1 %; 0.5 px² 0.66, −2.4 %; 1 px² 0.68, −2.4 % (above 0.5 px² squares
+// left holes on distant floors, where photons are merely dense). Per vertex, with the hits
+// on the receivers' planes (photon_cast.glsl): 0.61; with the triangles' own flux 0.55,
+// −2.9 %; with the slivers' footprints 0.50, −2.9 %, and a third of the holes.
 #include "caustic_splat.glsl"
 
 const float SLIVER_PIXELS = 0.5; // px²; see above
@@ -46,7 +54,9 @@ layout(constant_id = 0) const uint SUBDIVISION = 2;
 layout(push_constant) uniform GridPush { uint grid; } pc;
 
 layout(location = 0) flat in uvec2 v_cell[];
-layout(location = 0) out vec3 g_irradiance; // irradiance / E_surface, interpolated per vertex
+// rgb: irradiance / E_surface, interpolated per vertex; a: 0, or a sliver's footprint code
+// (shader_math.glsl), the same at its four corners.
+layout(location = 0) out vec4 g_irradiance;
 
 // The invocation's photons, row by row, SUBDIVISION + 1 per row.
 vec3 hit[MAX_PHOTONS];
@@ -59,13 +69,16 @@ vec3 around_flux[MAX_PHOTONS]; // sums over the drawn triangles around each phot
 float around_area[MAX_PHOTONS];
 float around_pixels[MAX_PHOTONS];     // their pixels and world area, where in front of the
 float around_pixel_area[MAX_PHOTONS]; // camera: the receiver area per pixel near the photon
+float around_count[MAX_PHOTONS];      // how many such triangles (a photon's cell is two)
 
-void emit_square(CausticSplat s) {
+// A square of s.size pixels centred on s.clip; `footprint` is the fragment shader's weighting
+// code (0: every covered pixel gets the whole irradiance).
+void emit_square(CausticSplat s, float footprint) {
     vec2 half_size = s.size / frame.caustic_target_size; // a pixel spans 2 / target size in NDC
     for (int k = 0; k < 4; ++k) {
         vec2 corner = vec2(k & 1, k >> 1) * 2.0 - 1.0;
         gl_Position = s.clip + vec4(corner * half_size * s.clip.w, 0.0, 0.0);
-        g_irradiance = s.irradiance.rgb;
+        g_irradiance = vec4(s.irradiance.rgb, footprint);
         EmitVertex();
     }
     EndPrimitive();
@@ -115,6 +128,7 @@ void gather_triangle(int a, int b, int c) {
     float pixels = triangle_pixels(a, b, c);
     if (pixels < 1e29) {
         around_pixels[a] += pixels; around_pixels[b] += pixels; around_pixels[c] += pixels;
+        around_count[a] += 1.0; around_count[b] += 1.0; around_count[c] += 1.0;
         around_pixel_area[a] += area; around_pixel_area[b] += area; around_pixel_area[c] += area;
     }
 }
@@ -136,14 +150,24 @@ void emit_triangle(int a, int b, int c) {
             // overstated the port's distant, grazing seabed: flux +5.6 % against +2.4 %.) A
             // triangle too small for the ratio to be more than rounding keeps the estimate.
             if (area > 1e-12 && pixels > 1e-4) s.irradiance.rgb = share * pixels / (area * frame.surface_irradiance);
-            emit_square(s);
+            // Deposited over the four pixel centres nearest the centroid with bilinear
+            // weights (a 2-pixel square, weighted per fragment): still exactly its flux,
+            // but where slivers crowd, no pixel between them is left out (a whole pixel at
+            // the centroid left tank 1.4 % of the lit pixels black).
+            s.size = 2.0;
+            emit_square(s, sliver_footprint_code(target_pixel(s.clip), sqrt(pixels)));
         }
         return;
     }
+    vec3 ea = photon_irradiance(a), eb = photon_irradiance(b), ec = photon_irradiance(c);
+    vec3 flat_e = (flux[a] + flux[b] + flux[c]) / (6.0 * area * frame.surface_irradiance);
+    vec3 mean_e = (ea + eb + ec) / 3.0;
+    vec3 scale = flat_e / max(mean_e, vec3(1e-30));
+    ea *= scale; eb *= scale; ec *= scale;
     // Outputs are undefined after each EmitVertex: set them for every vertex.
-    gl_Position = clip[a]; g_irradiance = photon_irradiance(a); EmitVertex();
-    gl_Position = clip[b]; g_irradiance = photon_irradiance(b); EmitVertex();
-    gl_Position = clip[c]; g_irradiance = photon_irradiance(c); EmitVertex();
+    gl_Position = clip[a]; g_irradiance = vec4(ea, 0.0); EmitVertex();
+    gl_Position = clip[b]; g_irradiance = vec4(eb, 0.0); EmitVertex();
+    gl_Position = clip[c]; g_irradiance = vec4(ec, 0.0); EmitVertex();
     EndPrimitive();
 }
 
@@ -171,6 +195,7 @@ void main() {
             around_area[k] = 0.0;
             around_pixels[k] = 0.0;
             around_pixel_area[k] = 0.0;
+            around_count[k] = 0.0;
         }
     }
     // Mesh cell (i, j) spans photons (i, j), (i+1, j), (i, j+1), (i+1, j+1); its diagonal
@@ -193,6 +218,9 @@ void main() {
         if (!landed[k] || all(equal(returned[k], vec3(0.0)))) continue;
         float size = regulated_point_size(length(hit[k] - frame.camera_position), frame.z_near, frame.z_far,
                                           frame.point_size_min, frame.point_size_max);
+        // The photon's own footprint: its cell, two of the triangles around it. The paper's
+        // distance rule (5-20 px) blurred the edge of every lit region by that much.
+        if (around_count[k] > 0.0) size = sqrt(2.0 * around_pixels[k] / around_count[k]);
         CausticSplat s;
         size = clamp(round(size), 1.0, floor(frame.device_max_point_size));
         if (caustic_square(hit[k], returned[k], size, s)) {
@@ -200,7 +228,7 @@ void main() {
             // it has any (see emit_triangle).
             if (around_pixels[k] > 1e-4 && around_pixel_area[k] > 1e-12)
                 s.irradiance.rgb = returned[k] * around_pixels[k] / (size * size * around_pixel_area[k] * frame.surface_irradiance);
-            emit_square(s);
+            emit_square(s, 0.0);
         }
     }
 }

@@ -52,6 +52,25 @@ bool converged(vec3 hit, vec3 receiver, vec3 receiver_normal, vec3 light_to_hit,
     return across <= across_allowed && along <= max(3.0 * texel_size / facing, 0.05 * dist);
 }
 
+// Moves the iteration's estimate `hit` (`dist` along the refracted ray from `ps`) onto the
+// plane of the receiver stored at its texel (point `receiver`, normal `receiver_normal`)
+// where that point still lies on the same receiver; leaves it where the plane is missing or
+// the ray runs along it.
+void onto_receiver_plane(vec3 ps, vec3 rt, vec3 receiver, vec3 receiver_normal, vec3 light_to_hit,
+                         inout vec3 hit, inout float dist) {
+    float len_n = length(receiver_normal);
+    if (!(len_n > 0.5)) return;
+    vec3 n = receiver_normal / len_n;
+    float denom = dot(rt, n);
+    if (abs(denom) <= 1e-3) return;
+    float t = dot(receiver - ps, n) / denom;
+    vec3 on_plane = ps + t * rt;
+    if (t > 0.0 && converged(on_plane, receiver, receiver_normal, light_to_hit, t)) {
+        hit = on_plane;
+        dist = t;
+    }
+}
+
 // Why cast_photon dropped its photon (PHOTON_LANDED when it did not), for the flux budget
 // (`render --flux-budget`, src/flux_budget.rs, whose `DropReason` lists the same codes).
 const int PHOTON_LANDED = 0;
@@ -165,6 +184,13 @@ bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
     if (r.w <= 0.0) { photon_fate = PHOTON_LEAVES_MAP; return false; }
     vec3 rn = texelFetch(light_normal, texel, 0).xyz;
     vec3 to_hit = frame.light_is_point > 0.0 ? normalize(hit - frame.light_position) : frame.light_axis;
+    // The iteration ends on the right texel but anywhere inside it: the stored receiver is the
+    // one at the texel's centre, and the estimate's error is up to a texel, several mm on the
+    // built-in scenes' floors against 13 mm between photons. The caustic estimators measure
+    // areas between neighbouring hits, so that error was noise in the irradiance (tank
+    // triangles: relative RMSE 0.66 from the texel, 0.61 on the plane). The receiver's plane at the texel
+    // (its stored point and normal) gives the exact hit on planar receivers.
+    onto_receiver_plane(ps, rt, r.xyz, rn, to_hit, hit, dist);
     if (!converged(hit, r.xyz, rn, to_hit, dist)) {
         photon_fate = PHOTON_NOT_CONVERGED;
 #ifndef PHOTON_BEAMS

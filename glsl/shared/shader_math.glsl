@@ -214,4 +214,48 @@ float regulated_point_size(float d_view, float z_near, float z_far, float s_min,
     return a + b / clamp(d_view, z_near, z_far);
 }
 
+// Caustic slivers (caustics_triangles.geom): how a mesh triangle much smaller than a pixel
+// is deposited. Its footprint is taken as a square of side s = √(its pixel area), centred on its centroid c
+// (target pixels). Each pixel takes the fraction of that square it overlaps, per axis the
+// overlap of [c − s/2, c + s/2] with the pixel's span over s: the pixel average that the
+// reference computes, for a footprint of that size. The fractions sum to 1 wherever c lies,
+// so the sliver deposits exactly its flux; s → 0 is "the pixel under the centroid", s = 1 a
+// bilinear tent. With s < 1 the footprint touches at most two pixels per axis, so a
+// 2-pixel square centred on c covers every one of them.
+// The geometry shader passes c and s to the fragment shader inside the irradiance's fourth
+// component, the same at the square's four corners (interpolating a constant returns it to
+// within rounding: the code is an integer below 2^20, so the rounding is under 0.5): per
+// axis c's offset from the nearest pixel edge, in 1/128 pixel, and that edge's parity,
+// which tells a fragment whether its pixel lies below or above the edge; and s in 1/16
+// pixel.
+const float FOOTPRINT_OFFSET_STEPS = 128.0;
+const float FOOTPRINT_AXIS_CODES = 2.0 * FOOTPRINT_OFFSET_STEPS; // parity × offset
+const float FOOTPRINT_SIDE_STEPS = 16.0;
+
+// Code of a footprint centred on c with side `side` pixels (> 0; 0 means "not a sliver").
+float sliver_footprint_code(vec2 c, float side) {
+    vec2 edge = floor(c + 0.5); // the pixel edge nearest c (edges sit at integers)
+    vec2 offset = clamp(round((c - edge) * FOOTPRINT_OFFSET_STEPS), -FOOTPRINT_OFFSET_STEPS / 2.0, FOOTPRINT_OFFSET_STEPS / 2.0 - 1.0);
+    vec2 axis = mod(edge, 2.0) * FOOTPRINT_OFFSET_STEPS + (offset + FOOTPRINT_OFFSET_STEPS / 2.0);
+    float s = clamp(round(side * FOOTPRINT_SIDE_STEPS), 1.0, FOOTPRINT_SIDE_STEPS);
+    return 1.0 + axis.x + axis.y * FOOTPRINT_AXIS_CODES + (s - 1.0) * FOOTPRINT_AXIS_CODES * FOOTPRINT_AXIS_CODES;
+}
+
+// Weight of the fragment at pixel centre `pixel` (gl_FragCoord.xy) for the footprint `code`.
+float sliver_footprint_weight(vec2 pixel, float code) {
+    float k = round(code) - 1.0;
+    float per_side = FOOTPRINT_AXIS_CODES * FOOTPRINT_AXIS_CODES;
+    float s = (floor(k / per_side) + 1.0) / FOOTPRINT_SIDE_STEPS;
+    k = mod(k, per_side);
+    vec2 axis = vec2(mod(k, FOOTPRINT_AXIS_CODES), floor(k / FOOTPRINT_AXIS_CODES));
+    vec2 parity = floor(axis / FOOTPRINT_OFFSET_STEPS);
+    vec2 offset = (axis - parity * FOOTPRINT_OFFSET_STEPS - FOOTPRINT_OFFSET_STEPS / 2.0) / FOOTPRINT_OFFSET_STEPS;
+    // The pixel's span relative to the edge: [0, 1] above it, [−1, 0] below it. Pixels
+    // farther away lie outside the 2-pixel square.
+    vec2 above = vec2(equal(mod(floor(pixel), 2.0), parity));
+    vec2 lo = above - 1.0, hi = above;
+    vec2 overlap = max(min(hi, offset + 0.5 * s) - max(lo, offset - 0.5 * s), 0.0) / s;
+    return overlap.x * overlap.y;
+}
+
 #endif
