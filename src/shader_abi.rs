@@ -99,8 +99,14 @@ frame_uniforms! {
     /// water.
     photon_window_min: [f32; 2],
     photon_window_size: [f32; 2],
+    /// A directional light's travel direction under flat water (zero for a point light).
+    /// The light's maps see underwater receivers along it, as the refracted photons meet
+    /// them (`shader_math::light_map_point`).
+    refracted_light_axis: [f32; 3],
+    /// How much wider a map texel's beam is under the water than above it: max(1, |r_y| / |d_y|).
+    refracted_texel_stretch: f32,
 }
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 4 * 64 + 16 * 17);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 4 * 64 + 16 * 18);
 
 /// Geometry-shader output bounds, defined here only: the shader compiler passes each to
 /// `glsl/` as a macro of the same name (`shaders::compile_all`). A shader's `max_vertices` is

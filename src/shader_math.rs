@@ -330,6 +330,18 @@ pub fn regulated_point_size(d_view: f32, z_near: f32, z_far: f32, s_min: f32, s_
 }
 
 // ---------------------------------------------------------------------------------------
+/// GLSL `light_map_point` (frame.glsl): where the light's maps put world point `p`. Above the
+/// water, `p`; below it, `p` slid back along `refracted` (the light's direction under flat
+/// water) to the level and on along the light's own direction `light_axis`: the point of the
+/// straight light ray that the map's texel of `p`'s photons holds, at the same path length.
+pub fn light_map_point(p: Vec3, water_level: f32, light_axis: Vec3, refracted: Vec3) -> Vec3 {
+    if !(refracted.y < -1e-3) {
+        return p;
+    }
+    let along = (water_level - p.y).max(0.0) / -refracted.y;
+    p + along * (light_axis - refracted)
+}
+
 // Caustic slivers (GLSL: shader_math.glsl, "Caustic slivers").
 const FOOTPRINT_OFFSET_STEPS: f32 = 128.0;
 const FOOTPRINT_AXIS_CODES: f32 = 2.0 * FOOTPRINT_OFFSET_STEPS;
@@ -460,9 +472,28 @@ impl PhotonCaster<'_> {
         }
     }
 
+    /// GLSL `light_map_point` (frame.glsl).
+    fn light_map_point(&self, p: Vec3) -> Vec3 {
+        let u = self.uniforms;
+        light_map_point(p, u.water_level, Vec3::from_array(u.light_axis), Vec3::from_array(u.refracted_light_axis))
+    }
+
+    /// GLSL `light_map_direction` (frame.glsl).
+    fn light_map_direction(&self, p: Vec3) -> Vec3 {
+        let u = self.uniforms;
+        let refracted = Vec3::from_array(u.refracted_light_axis);
+        if u.light_is_point > 0.0 {
+            (p - Vec3::from_array(u.light_position)).normalize()
+        } else if refracted.y < -1e-3 && p.y < u.water_level {
+            refracted
+        } else {
+            Vec3::from_array(u.light_axis)
+        }
+    }
+
     /// GLSL `light_texel`.
     fn light_texel(&self, p: Vec3) -> Option<(u32, u32)> {
-        let c = glam::Mat4::from_cols_array_2d(&self.uniforms.light_view_proj) * p.extend(1.0);
+        let c = glam::Mat4::from_cols_array_2d(&self.uniforms.light_view_proj) * self.light_map_point(p).extend(1.0);
         if c.w <= 0.0 {
             return None;
         }
@@ -558,10 +589,11 @@ impl PhotonCaster<'_> {
         let point = u.light_is_point > 0.0;
         let light_pos = Vec3::from_array(u.light_position);
         let texel_size = 2.0 * u.light_half_extent[0].max(u.light_half_extent[1]) / u.light_map_size
-            * if point { (hit - light_pos).length() } else { 1.0 };
+            * if point { (hit - light_pos).length() } else { 1.0 }
+            * if !point && hit.y < u.water_level { u.refracted_texel_stretch } else { 1.0 };
         let normal = self.light_normals.at(texel.0, texel.1);
         let normal = Vec3::new(normal[0], normal[1], normal[2]);
-        let light_to_hit = if point { (hit - light_pos).normalize() } else { Vec3::from_array(u.light_axis) };
+        let light_to_hit = self.light_map_direction(hit);
         let receiver = Vec3::new(r[0], r[1], r[2]);
         let (hit, dist) = onto_receiver_plane(ps, rt, hit, dist, receiver, normal, |h, t| {
             converged(h, receiver, normal, light_to_hit, t, texel_size)

@@ -38,6 +38,7 @@
 #include "caustic_splat.glsl"
 
 const float SLIVER_PIXELS = 0.5; // px²; see above
+const float THIN_SLIVER_LENGTH = 1.5; // px: a sliver longer than this is drawn along its length
 const int MAX_SIDE = TRIANGLE_MAX_SUBDIVISION + 1;  // photons per axis an invocation casts
 const int MAX_PHOTONS = MAX_SIDE * MAX_SIDE;
 
@@ -133,6 +134,38 @@ void gather_triangle(int a, int b, int c) {
     }
 }
 
+// Emits the sliver (a, b, c) as a strip one pixel wide along its longest edge, through the
+// middle of its height, when that edge is longer than THIN_SLIVER_LENGTH pixels; `per_pixel`
+// is its flux over the receiver area of one pixel (/E_surface). The strip covers about as
+// many pixel centres as it is long, and each takes per_pixel over that length: its flux,
+// exactly in expectation over the strip's position.
+bool emit_thin_sliver(int a, int b, int c, vec3 per_pixel) {
+    int corners[3] = int[3](a, b, c);
+    vec2 p[3] = vec2[3](target_pixel(clip[a]), target_pixel(clip[b]), target_pixel(clip[c]));
+    int longest = 0;
+    float length_px = 0.0;
+    for (int i = 0; i < 3; ++i) {
+        float l = distance(p[i], p[(i + 1) % 3]);
+        if (l > length_px) { length_px = l; longest = i; }
+    }
+    if (!(length_px > THIN_SLIVER_LENGTH)) return false;
+    int i0 = longest, i1 = (longest + 1) % 3, i2 = (longest + 2) % 3;
+    vec2 along = (p[i1] - p[i0]) / length_px;
+    vec2 across = vec2(-along.y, along.x);
+    float middle = 0.5 * dot(p[i2] - p[i0], across); // half the height, towards the third corner
+    vec4 ends[2] = vec4[2](clip[corners[i0]], clip[corners[i1]]);
+    vec3 value = per_pixel / length_px;
+    for (int k = 0; k < 4; ++k) {
+        vec4 end = ends[k >> 1];
+        vec2 offset_px = across * (middle + ((k & 1) == 0 ? -0.5 : 0.5));
+        gl_Position = end + vec4(offset_px * 2.0 / frame.caustic_target_size * end.w, 0.0, 0.0);
+        g_irradiance = vec4(value, 0.0);
+        EmitVertex();
+    }
+    EndPrimitive();
+    return true;
+}
+
 vec3 photon_irradiance(int k) {
     return around_flux[k] / (max(around_area[k], 1e-20) * frame.surface_irradiance);
 }
@@ -150,10 +183,12 @@ void emit_triangle(int a, int b, int c) {
             // overstated the port's distant, grazing seabed: flux +5.6 % against +2.4 %.) A
             // triangle too small for the ratio to be more than rounding keeps the estimate.
             if (area > 1e-12 && pixels > 1e-4) s.irradiance.rgb = share * pixels / (area * frame.surface_irradiance);
-            // Deposited over the four pixel centres nearest the centroid with bilinear
-            // weights (a 2-pixel square, weighted per fragment): still exactly its flux,
-            // but where slivers crowd, no pixel between them is left out (a whole pixel at
-            // the centroid left tank 1.4 % of the lit pixels black).
+            // A long, thin sliver (a fold's edge) is laid along its length as a strip one
+            // pixel wide carrying its flux: each pixel centre in the strip takes an equal
+            // share. Anything smaller goes to the pixels its footprint overlaps
+            // (sliver_footprint_code, shader_math.glsl). Drawn at its centroid, a fold
+            // through sparse photons was a dotted line (the port's near seabed).
+            if (emit_thin_sliver(a, b, c, s.irradiance.rgb)) return;
             s.size = 2.0;
             emit_square(s, sliver_footprint_code(target_pixel(s.clip), sqrt(pixels)));
         }

@@ -22,7 +22,7 @@ struct Photon {
 // Texel of the light maps under world point p; false when p projects outside the map or
 // behind the light.
 bool light_texel(vec3 p, out ivec2 texel) {
-    vec4 c = frame.light_view_proj * vec4(p, 1.0);
+    vec4 c = frame.light_view_proj * vec4(light_map_point(p), 1.0);
     if (c.w <= 0.0) return false;
     vec2 uv = c.xy / c.w * 0.5 + 0.5;
     if (any(lessThan(uv, vec2(0.0))) || any(greaterThanEqual(uv, vec2(1.0)))) return false;
@@ -39,7 +39,8 @@ bool light_texel(vec3 p, out ivec2 texel) {
 // the stored point rejected most correct hits below a 15° sun.)
 bool converged(vec3 hit, vec3 receiver, vec3 receiver_normal, vec3 light_to_hit, float dist) {
     float texel_size = 2.0 * max(frame.light_half_extent.x, frame.light_half_extent.y) / frame.light_map_size
-                     * (frame.light_is_point > 0.0 ? length(hit - frame.light_position) : 1.0);
+                     * (frame.light_is_point > 0.0 ? length(hit - frame.light_position) : 1.0)
+                     * (frame.light_is_point == 0.0 && hit.y < frame.water_level ? frame.refracted_texel_stretch : 1.0);
     float across_allowed = max(3.0 * texel_size, 0.05 * dist);
     vec3 off = hit - receiver;
     float len_n = length(receiver_normal);
@@ -183,7 +184,7 @@ bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
     vec4 r = texelFetch(light_position, texel, 0);
     if (r.w <= 0.0) { photon_fate = PHOTON_LEAVES_MAP; return false; }
     vec3 rn = texelFetch(light_normal, texel, 0).xyz;
-    vec3 to_hit = frame.light_is_point > 0.0 ? normalize(hit - frame.light_position) : frame.light_axis;
+    vec3 to_hit = light_map_direction(hit);
     // The iteration ends on the right texel but anywhere inside it: the stored receiver is the
     // one at the texel's centre, and the estimate's error is up to a texel, several mm on the
     // built-in scenes' floors against 13 mm between photons. The caustic estimators measure

@@ -1,7 +1,6 @@
 #version 450
-// Scene meshes from the light: world position and normal for the receiver maps.
-#include "frame.glsl"
-
+// Scene meshes from the light: world position and normal for the receiver maps. The geometry
+// shader (shadow.geom) projects them.
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
 
@@ -11,5 +10,4 @@ layout(location = 1) out vec3 v_normal;
 void main() {
     v_world = in_position;
     v_normal = in_normal;
-    gl_Position = frame.light_view_proj * vec4(in_position, 1.0);
 }

@@ -67,7 +67,28 @@ layout(set = 0, binding = BINDING_UNIFORMS, std430) readonly buffer FrameUniform
     float unused;
     vec2 photon_window_min;        // the photon grids' part of the light's map window (uv): the water's footprint
     vec2 photon_window_size;
+    vec3 refracted_light_axis;     // a directional light's direction under flat water (0: a point light)
+    float refracted_texel_stretch; // max(1, |r_y| / |d_y|): a map texel's beam under the water against above
 } frame;
+
+// Where the light's maps put world point p: p itself above the water; below it (directional
+// light), p slid back along the refracted light direction to the water level and on along the
+// light's own, so that an underwater receiver lands in the texel of the photons that reach it
+// (through flat water), not in that of the straight light ray. The Rust twin is
+// shader_math::light_map_point.
+vec3 light_map_point(vec3 p) {
+    vec3 r = frame.refracted_light_axis;
+    if (!(r.y < -1e-3)) return p;
+    float along = max(frame.water_level - p.y, 0.0) / -r.y;
+    return p + along * (frame.light_axis - r);
+}
+
+// The direction along which the light's maps see point p (unit): from a point light; along a
+// directional light above the water and its refracted direction below it.
+vec3 light_map_direction(vec3 p) {
+    if (frame.light_is_point > 0.0) return normalize(p - frame.light_position);
+    return frame.refracted_light_axis.y < -1e-3 && p.y < frame.water_level ? frame.refracted_light_axis : frame.light_axis;
+}
 
 WaterParams frame_water() {
     WaterParams w;

@@ -3,6 +3,9 @@
 //! image-space intersection) and its normal (for the iteration's convergence test and the
 //! caustic splat's footprint). The water
 //! mask the paper makes optional is derived from the position map instead (see photon_cast.glsl).
+//! Under a directional light the maps see underwater receivers along the light's refracted
+//! direction, where the photons travel (`shader_math::light_map_point`); a geometry shader
+//! cuts the triangles that cross the water level so that each piece projects exactly.
 
 use crate::error::Result;
 use crate::passes::mesh::{GpuMeshes, MESH_ATTRIBUTES};
@@ -70,6 +73,7 @@ impl ShadowPass {
                 set_layouts: &[sets.layout],
                 vertex_stride: std::mem::size_of::<crate::passes::mesh::MeshVertex>() as u32,
                 vertex_attributes: &MESH_ATTRIBUTES[..2],
+                geometry: Some("shadow.geom"),
                 ..GraphicsPipelineDesc::new("shadow", "shadow.vert", "shadow.frag", render_pass.raw)
             },
         )?;

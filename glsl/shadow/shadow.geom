@@ -1,0 +1,58 @@
+#version 450
+// The receiver maps' projection, bent at the water level for a directional light
+// (light_map_point, frame.glsl): above the water along the light, below it along the
+// light's refracted direction. The bend is linear on each side of the level but not across
+// it, so a triangle that crosses the level is cut there first, into the triangle on one side
+// and the quad (two triangles) on the other; each piece then projects exactly. (Drawn
+// whole, a wall from the floor to above the water lay up to a few centimetres off in the
+// map, and the photons that met it did not converge.)
+#include "frame.glsl"
+
+layout(triangles) in;
+// Three triangles at most (the cut-off corner and the quad's two), each its own strip.
+layout(triangle_strip, max_vertices = 9) out;
+
+layout(location = 0) in vec3 v_world[];
+layout(location = 1) in vec3 v_normal[];
+layout(location = 0) out vec3 g_world;
+layout(location = 1) out vec3 g_normal;
+
+void emit(vec3 world, vec3 normal) {
+    g_world = world;
+    g_normal = normal;
+    gl_Position = frame.light_view_proj * vec4(light_map_point(world), 1.0);
+    EmitVertex();
+}
+
+void emit_triangle(vec3 p0, vec3 n0, vec3 p1, vec3 n1, vec3 p2, vec3 n2) {
+    emit(p0, n0);
+    emit(p1, n1);
+    emit(p2, n2);
+    EndPrimitive();
+}
+
+void main() {
+    float level = frame.water_level;
+    float s[3] = float[3](v_world[0].y - level, v_world[1].y - level, v_world[2].y - level);
+    bool bends = frame.refracted_light_axis.y < -1e-3;
+    // The corner alone on its side of the level, if the triangle crosses it.
+    int lone = -1;
+    for (int i = 0; i < 3; ++i) {
+        int j = (i + 1) % 3, k = (i + 2) % 3;
+        if ((s[i] > 0.0 && s[j] <= 0.0 && s[k] <= 0.0) || (s[i] < 0.0 && s[j] >= 0.0 && s[k] >= 0.0)) lone = i;
+    }
+    if (!bends || lone < 0) {
+        emit_triangle(v_world[0], v_normal[0], v_world[1], v_normal[1], v_world[2], v_normal[2]);
+        return;
+    }
+    // Corners in the triangle's own order from the lone one, so the pieces keep its winding.
+    int a = lone, b = (lone + 1) % 3, c = (lone + 2) % 3;
+    float tb = s[a] / (s[a] - s[b]), tc = s[a] / (s[a] - s[c]);
+    vec3 xb = mix(v_world[a], v_world[b], tb), xc = mix(v_world[a], v_world[c], tc);
+    vec3 nb = mix(v_normal[a], v_normal[b], tb), nc = mix(v_normal[a], v_normal[c], tc);
+    xb.y = level; // on the level exactly, so both sides' pieces meet there
+    xc.y = level;
+    emit_triangle(v_world[a], v_normal[a], xb, nb, xc, nc);
+    emit_triangle(xb, nb, v_world[b], v_normal[b], v_world[c], v_normal[c]);
+    emit_triangle(xb, nb, v_world[c], v_normal[c], xc, nc);
+}
