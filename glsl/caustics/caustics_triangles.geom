@@ -166,6 +166,26 @@ bool emit_thin_sliver(int a, int b, int c, vec3 per_pixel) {
     return true;
 }
 
+// A photon's cell on its receiver in target pixels, from the light alone (a directional
+// light): the grid cell's cross-section, widened under the water as the refracted beam is
+// (refracted_texel_stretch) and spread over the receiver as the beam meets it, over the
+// receiver area one pixel covers there. For a photon with no drawn triangle around it (a
+// post or an edge that only it reached), where the paper's distance rule drew a 5-20 px
+// square on a post a few pixels wide.
+float cell_pixels(int k) {
+    float cell = 4.0 * frame.light_half_extent.x * frame.light_half_extent.y
+               * frame.photon_window_size.x * frame.photon_window_size.y
+               / (frame.caustic_photons_per_axis * frame.caustic_photons_per_axis);
+    vec3 beam = light_map_direction(hit[k]);
+    float stretch = hit[k].y < frame.water_level ? frame.refracted_texel_stretch : 1.0;
+    float on_receiver = cell * stretch / max(abs(dot(normal[k], beam)), 0.1);
+    vec3 to_hit = hit[k] - frame.camera_position;
+    float d_view = length(to_hit);
+    float cos_view = abs(dot(normal[k], to_hit / d_view));
+    float cos_axis = clip[k].w / d_view;
+    return on_receiver / pixel_world_area(d_view, cos_view, cos_axis, frame.caustic_target_size.y);
+}
+
 vec3 photon_irradiance(int k) {
     return around_flux[k] / (max(around_area[k], 1e-20) * frame.surface_irradiance);
 }
@@ -256,6 +276,7 @@ void main() {
         // The photon's own footprint: its cell, two of the triangles around it. The paper's
         // distance rule (5-20 px) blurred the edge of every lit region by that much.
         if (around_count[k] > 0.0) size = sqrt(2.0 * around_pixels[k] / around_count[k]);
+        else if (frame.light_is_point == 0.0) size = sqrt(cell_pixels(k));
         CausticSplat s;
         size = clamp(round(size), 1.0, floor(frame.device_max_point_size));
         if (caustic_square(hit[k], returned[k], size, s)) {
