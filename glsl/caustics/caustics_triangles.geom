@@ -167,15 +167,15 @@ bool emit_thin_sliver(int a, int b, int c, vec3 per_pixel) {
 }
 
 // A photon's cell on its receiver in target pixels, from the light alone (a directional
-// light): the grid cell's cross-section, widened under the water as the refracted beam is
-// (refracted_texel_stretch) and spread over the receiver as the beam meets it, over the
-// receiver area one pixel covers there. For a photon with no drawn triangle around it (a
-// post or an edge that only it reached), where the paper's distance rule drew a 5-20 px
-// square on a post a few pixels wide.
-float cell_pixels(int k) {
+// light): the cell of a grid of photons_per_axis² over the photon window, widened under the
+// water as the refracted beam is (refracted_texel_stretch) and spread over the receiver as
+// the beam meets it, over the receiver area one pixel covers there. For a photon with no
+// drawn triangle around it (a post or an edge that only it reached), where the paper's
+// distance rule drew a 5-20 px square on a post a few pixels wide.
+float cell_pixels(int k, float photons_per_axis) {
     float cell = 4.0 * frame.light_half_extent.x * frame.light_half_extent.y
                * frame.photon_window_size.x * frame.photon_window_size.y
-               / (frame.caustic_photons_per_axis * frame.caustic_photons_per_axis);
+               / (photons_per_axis * photons_per_axis);
     vec3 beam = light_map_direction(hit[k]);
     float stretch = hit[k].y < frame.water_level ? frame.refracted_texel_stretch : 1.0;
     float on_receiver = cell * stretch / max(abs(dot(normal[k], beam)), 0.1);
@@ -276,7 +276,7 @@ void main() {
         // The photon's own footprint: its cell, two of the triangles around it. The paper's
         // distance rule (5-20 px) blurred the edge of every lit region by that much.
         if (around_count[k] > 0.0) size = sqrt(2.0 * around_pixels[k] / around_count[k]);
-        else if (frame.light_is_point == 0.0) size = sqrt(cell_pixels(k));
+        else if (frame.light_is_point == 0.0) size = sqrt(cell_pixels(k, photons_per_axis));
         CausticSplat s;
         size = clamp(round(size), 1.0, floor(frame.device_max_point_size));
         if (caustic_square(hit[k], returned[k], size, s)) {
