@@ -7,27 +7,22 @@ found the godray bias with it:
     underlight reference --scene tank --width 320 --height 200 --out out/ref
     python3 scripts/block_ratios.py out/gpu/godrays.pfm out/ref/godrays.pfm [COLUMNS ROWS]
 """
-import struct
 import sys
 
+from pfm import read_pfm
 
-def read_pfm(path):
+
+def channel0(path):
     """Channel 0 of a PFM, rows from the bottom (as the file stores them)."""
-    with open(path, "rb") as f:
-        kind = f.readline().strip()
-        width, height = (int(v) for v in f.readline().split())
-        scale = float(f.readline())
-        channels = 3 if kind == b"PF" else 1
-        count = width * height * channels
-        values = struct.unpack(("<" if scale < 0 else ">") + "%df" % count, f.read(4 * count))
+    width, height, channels, values = read_pfm(path)
     return width, height, values[::channels]
 
 
 def main():
     if len(sys.argv) not in (3, 5):
         sys.exit(__doc__)
-    w, h, gpu = read_pfm(sys.argv[1])
-    w2, h2, ref = read_pfm(sys.argv[2])
+    w, h, gpu = channel0(sys.argv[1])
+    w2, h2, ref = channel0(sys.argv[2])
     if (w, h) != (w2, h2):
         sys.exit("%s is %dx%d, %s is %dx%d" % (sys.argv[1], w, h, sys.argv[2], w2, h2))
     cols, rows = (int(sys.argv[3]), int(sys.argv[4])) if len(sys.argv) == 5 else (8, 5)

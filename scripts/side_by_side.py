@@ -16,19 +16,15 @@ import struct
 import sys
 import zlib
 
+from pfm import read_pfm
+
 SCALE = 1.5
 GUTTER = 4
 
 
-def read_pfm(path):
+def read_rows(path):
     """Channel sums of a PFM as rows from the top, with its width and height."""
-    with open(path, "rb") as f:
-        kind = f.readline().strip()
-        width, height = (int(v) for v in f.readline().split())
-        scale = float(f.readline())
-        channels = 3 if kind == b"PF" else 1
-        count = width * height * channels
-        values = struct.unpack(("<" if scale < 0 else ">") + "%df" % count, f.read(4 * count))
+    width, height, channels, values = read_pfm(path)
     rows = []
     for y in reversed(range(height)):  # PFM stores the bottom row first
         row = values[y * width * channels:(y + 1) * width * channels]
@@ -64,7 +60,7 @@ def main():
         else:
             group.append(arg)
     groups.append(group)
-    images = [[read_pfm(p) for p in g] for g in groups if g]
+    images = [[read_rows(p) for p in g] for g in groups if g]
     columns = max(len(g) for g in images)
     cell_w = max(int(w * SCALE) for g in images for (w, _, _) in g)
     cell_h = max(int(h * SCALE) for g in images for (_, h, _) in g)

@@ -1,0 +1,15 @@
+"""PFM reading for the scripts beside this file (the format `underlight render --hdr` and
+`underlight reference` write): width, height, channels, and the floats as the file stores
+them, bottom row first, channels interleaved."""
+import struct
+
+
+def read_pfm(path):
+    with open(path, "rb") as f:
+        kind = f.readline().strip()
+        width, height = (int(v) for v in f.readline().split())
+        scale = float(f.readline())
+        channels = 3 if kind == b"PF" else 1
+        count = width * height * channels
+        values = struct.unpack(("<" if scale < 0 else ">") + "%df" % count, f.read(4 * count))
+    return width, height, channels, values
