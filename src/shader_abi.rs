@@ -105,8 +105,13 @@ frame_uniforms! {
     refracted_light_axis: [f32; 3],
     /// How much wider a map texel's beam is under the water than above it: max(1, |r_y| / |d_y|).
     refracted_texel_stretch: f32,
+    /// This frame's offset of the photon grids, in photon cells (`effects.photon_jitter`;
+    /// zero without it): `cast_photon` shifts every photon by it.
+    photon_jitter: [f32; 2],
+    /// Pads the block to a whole 16 bytes.
+    unused_tail: [f32; 2],
 }
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 4 * 64 + 16 * 18);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 4 * 64 + 16 * 19);
 
 /// Geometry-shader output bounds, defined here only: the shader compiler passes each to
 /// `glsl/` as a macro of the same name (`shaders::compile_all`). A shader's `max_vertices` is

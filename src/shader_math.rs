@@ -515,7 +515,7 @@ impl PhotonCaster<'_> {
         let u = self.uniforms;
         let inv = glam::Mat4::from_cols_array_2d(&u.light_inv_view_proj);
         let (window_min, window_size) = (Vec2::from(u.photon_window_min), Vec2::from(u.photon_window_size));
-        let uv = window_min + uv * window_size;
+        let uv = window_min + (uv + Vec2::from(u.photon_jitter) / photons_per_axis) * window_size;
         let ndc = uv * 2.0 - 1.0;
         let a = inv * glam::Vec4::new(ndc.x, ndc.y, 0.0, 1.0);
         let b = inv * glam::Vec4::new(ndc.x, ndc.y, 1.0, 1.0);

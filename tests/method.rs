@@ -545,6 +545,29 @@ fn triangle_estimator_covers_what_points_leave_as_gaps_and_keeps_the_flux() {
 }
 
 #[test]
+fn jittered_photon_grid_moves_the_photons_and_keeps_their_light() {
+    // effects.photon_jitter shifts the whole grid by this frame's sub-cell offset: the
+    // caustics under waves land elsewhere, and the same light lands. A jitter that is not
+    // applied fails the first check; one that scales the photons' flux or drops part of the
+    // grid fails the second.
+    let still = pool_with(0.04, CausticEstimator::Triangles, 160);
+    let mut jittered = still.clone();
+    jittered.effects.photon_jitter = true;
+    let offset = underlight::frame::uniforms::photon_jitter(1.0);
+    assert!(offset[0].abs() > 0.05 || offset[1].abs() > 0.05, "the offset at t = 1 s is {offset:?}");
+    let (a, _) = render(&still);
+    let (b, _) = render(&jittered);
+    let (a, b) = (a.caustics.unwrap(), b.caustics.unwrap());
+    let sum = |img: &HdrImage| img.pixels.iter().map(|p| p[0] as f64).sum::<f64>();
+    let diff: f64 = a.pixels.iter().zip(&b.pixels).map(|(p, q)| (p[0] as f64 - q[0] as f64).powi(2)).sum::<f64>();
+    let change = (diff / a.pixels.len() as f64).sqrt() / (sum(&a) / a.pixels.len() as f64);
+    let flux = sum(&b) / sum(&a) - 1.0;
+    eprintln!("jitter {offset:?}: relative change {change:.3}, flux {flux:+.4}");
+    assert!(change > 0.05, "the jittered grid draws the same caustics (relative change {change:.4})");
+    assert!(flux.abs() < 0.01, "the jittered grid carries {:+.2} % more light", 100.0 * flux);
+}
+
+#[test]
 fn triangle_estimator_names_what_it_needs() {
     let ctx = validated_context();
     let scene = pool_with(0.04, CausticEstimator::Triangles, 64);

@@ -94,7 +94,8 @@ bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
     ph.surface = vec3(0.0); ph.direction = vec3(0.0); ph.hit = vec3(0.0); ph.flux = 0.0; ph.travelled = 0.0;
     photon_fate = PHOTON_LANDED;
     // The grid covers the water's footprint in the light's window, not the whole window.
-    uv = frame.photon_window_min + uv * frame.photon_window_size;
+    // Shifted by this frame's sub-cell offset (effects.photon_jitter; zero without it).
+    uv = frame.photon_window_min + (uv + frame.photon_jitter / photons_per_axis) * frame.photon_window_size;
     vec2 ndc = uv * 2.0 - 1.0;
     vec4 a = frame.light_inv_view_proj * vec4(ndc, 0.0, 1.0);
     vec4 b = frame.light_inv_view_proj * vec4(ndc, 1.0, 1.0);

@@ -69,6 +69,8 @@ layout(set = 0, binding = BINDING_UNIFORMS, std430) readonly buffer FrameUniform
     vec2 photon_window_size;
     vec3 refracted_light_axis;     // a directional light's direction under flat water (0: a point light)
     float refracted_texel_stretch; // max(1, |r_y| / |d_y|): a map texel's beam under the water against above
+    vec2 photon_jitter;            // this frame's photon-grid offset, in photon cells (effects.photon_jitter)
+    vec2 unused_tail;
 } frame;
 
 // Where the light's maps put world point p: p itself above the water; below it (directional

@@ -193,6 +193,7 @@ pub(super) struct EffectsFile {
     pub caustic_estimator: Option<CausticEstimatorFile>,
     pub caustic_grid: Option<u32>,
     pub caustic_subdivision: Option<u32>,
+    pub photon_jitter: Option<bool>,
     pub godray_grid: Option<u32>,
     pub godray_subdivision: Option<u32>,
     pub caustic_target_scale: Option<f64>,
@@ -836,6 +837,7 @@ impl EffectsFile {
             caustics: self.caustics.unwrap_or(d.caustics),
             godrays: self.godrays.unwrap_or(d.godrays),
             filter: self.filter.unwrap_or(d.filter),
+            photon_jitter: self.photon_jitter.unwrap_or(d.photon_jitter),
             caustic_grid: int("caustic_grid", self.caustic_grid, d.caustic_grid, 1, 4096)?,
             // The geometry shaders' output limits (see shader_math).
             caustic_subdivision: int(

@@ -166,6 +166,10 @@ pub struct Effects {
     pub iterations: u32,
     /// Side of the light-space maps (shadow depth, receiver positions, water mask), texels.
     pub shadow_map_size: u32,
+    /// Shift the photon grids by a sub-cell offset that changes every frame (an R2
+    /// low-discrepancy sequence, `frame::uniforms::photon_jitter`), so that the grid's
+    /// regular staircase becomes noise that time averages out.
+    pub photon_jitter: bool,
 }
 
 impl Default for Medium {
@@ -192,6 +196,7 @@ impl Default for Effects {
             line_width: 1.0,
             iterations: 5,
             shadow_map_size: 1024,
+            photon_jitter: false,
         }
     }
 }
