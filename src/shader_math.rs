@@ -370,9 +370,9 @@ pub fn sliver_footprint_weight(pixel: Vec2, code: f32) -> f32 {
     let parity = (axis / FOOTPRINT_OFFSET_STEPS).floor();
     let offset = (axis - parity * FOOTPRINT_OFFSET_STEPS - FOOTPRINT_OFFSET_STEPS / 2.0) / FOOTPRINT_OFFSET_STEPS;
     let overlap = |pixel: f32, parity: f32, offset: f32| {
-        let above = if glsl_mod(pixel.floor(), 2.0) == parity { 1.0 } else { 0.0 };
+        let above: f32 = if glsl_mod(pixel.floor(), 2.0) == parity { 1.0 } else { 0.0 };
         let (lo, hi) = (above - 1.0, above);
-        ((hi as f32).min(offset + 0.5 * s) - (lo as f32).max(offset - 0.5 * s)).max(0.0) / s
+        (hi.min(offset + 0.5 * s) - lo.max(offset - 0.5 * s)).max(0.0) / s
     };
     overlap(pixel.x, parity.x, offset.x) * overlap(pixel.y, parity.y, offset.y)
 }
