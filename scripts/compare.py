@@ -1,0 +1,61 @@
+#!/usr/bin/env python3
+"""A GPU buffer against the reference's, with the sweep's metrics (src/metrics.rs): relative
+RMSE sqrt(mean (gpu - ref)^2) / mean ref and the flux error sum gpu / sum ref - 1, over the RGB
+of every pixel; with one file, metrics::gap_fraction of it (zero pixels among those whose
+15x15 mean exceeds a tenth of the mean of the pixels that hold anything, channel sums).
+docs/accuracy.md's step-by-step table and own-size gap fractions:
+
+    underlight reference --scene tank --width 320 --height 200 --out out/ref
+    underlight render --scene tank --width 320 --height 200 --frames 1 --hdr out/gpu --out out/gpu/o.png
+    python3 scripts/compare.py out/gpu/caustics.pfm out/ref/caustics.pfm
+    underlight render --scene tank --frames 1 --hdr out/own --out out/own/o.png
+    python3 scripts/compare.py out/own/caustics.pfm
+"""
+import math
+import sys
+
+from pfm import read_pfm
+
+
+def gap_fraction(width, height, channels, values):
+    v = [sum(values[i * channels:(i + 1) * channels]) for i in range(width * height)]  # bottom row first
+    lit = [x for x in v if x > 0.0]
+    if not lit:
+        return 0.0
+    lit_mean = sum(lit) / len(lit)
+    table = [0.0] * ((width + 1) * (height + 1))  # summed-area table, a zero row and column in front
+    for y in range(height):
+        row = 0.0
+        for x in range(width):
+            row += v[y * width + x]
+            table[(y + 1) * (width + 1) + x + 1] = table[y * (width + 1) + x + 1] + row
+    at = lambda x, y: table[y * (width + 1) + x]
+    region = empty = 0
+    for y in range(height):
+        for x in range(width):
+            x0, x1 = max(x - 7, 0), min(x + 8, width)
+            y0, y1 = max(y - 7, 0), min(y + 8, height)
+            mean = (at(x1, y1) - at(x0, y1) - at(x1, y0) + at(x0, y0)) / ((x1 - x0) * (y1 - y0))
+            if mean > 0.1 * lit_mean:
+                region += 1
+                empty += v[y * width + x] == 0.0
+    return empty / region if region else 0.0
+
+
+def main():
+    if len(sys.argv) not in (2, 3):
+        sys.exit(__doc__)
+    w, h, c, gpu = read_pfm(sys.argv[1])
+    if len(sys.argv) == 2:
+        print("%s: gap fraction %.4f" % (sys.argv[1], gap_fraction(w, h, c, gpu)))
+        return
+    w2, h2, c2, ref = read_pfm(sys.argv[2])
+    if (w, h, c) != (w2, h2, c2):
+        sys.exit("%s is %dx%dx%d, %s is %dx%dx%d" % (sys.argv[1], w, h, c, sys.argv[2], w2, h2, c2))
+    mean_ref = sum(ref) / len(ref)
+    rmse = math.sqrt(sum((g - r) ** 2 for g, r in zip(gpu, ref)) / len(ref)) / mean_ref
+    print("%s: relative RMSE %.3f, flux %+.2f %%" % (sys.argv[1], rmse, 100 * (sum(gpu) / sum(ref) - 1)))
+
+
+if __name__ == "__main__":
+    main()
