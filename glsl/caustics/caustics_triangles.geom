@@ -72,8 +72,11 @@ float around_pixels[MAX_PHOTONS];     // their pixels and world area, where in f
 float around_pixel_area[MAX_PHOTONS]; // camera: the receiver area per pixel near the photon
 float around_count[MAX_PHOTONS];      // how many such triangles (a photon's cell is two)
 
-// A square of s.size pixels centred on s.clip; `footprint` is the fragment shader's weighting
-// code (0: every covered pixel gets the whole irradiance).
+// A square of s.size pixels centred on s.clip, at the photon's one depth; `footprint` is the
+// fragment shader's weighting code: a sliver's (a 2-pixel square), or for a lone photon's
+// square −s.size (every covered pixel gets the whole irradiance). Non-zero either way, which
+// tells the fragment shader that the square's depth is a point's, not its receiver's at each
+// pixel, and how far its pixels reach.
 void emit_square(CausticSplat s, float footprint) {
     vec2 half_size = s.size / frame.caustic_target_size; // a pixel spans 2 / target size in NDC
     for (int k = 0; k < 4; ++k) {
@@ -287,7 +290,7 @@ void main() {
             // it has any (see emit_triangle).
             if (around_pixels[k] > 1e-4 && around_pixel_area[k] > 1e-12)
                 s.irradiance.rgb = returned[k] * around_pixels[k] / (size * size * around_pixel_area[k] * frame.surface_irradiance);
-            emit_square(s, 0.0);
+            emit_square(s, -size);
         }
     }
 }

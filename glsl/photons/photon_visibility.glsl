@@ -5,16 +5,49 @@
 // lies on the very surface the depth buffer holds.
 #ifndef UNDERLIGHT_PHOTON_VISIBILITY_GLSL
 #define UNDERLIGHT_PHOTON_VISIBILITY_GLSL
-#include "frame.glsl"
-#include "frame_textures.glsl"
-
-layout(set = 0, binding = BINDING_SCENE_DEPTH) uniform sampler2D scene_depth;
+#include "scene_depth.glsl"
 
 // Whether view depth `view_depth` (m along the camera axis) at pixel centre `pixel` of a
 // target `size` pixels large lies behind what the scene shows there.
 bool behind_scene(vec2 pixel, vec2 size, float view_depth, float tolerance) {
-    float scene_z = linear_view_depth(textureLod(scene_depth, pixel / size, 0.0).r);
+    float scene_z = scene_view_depth(pixel / size);
     return view_depth > scene_z * (1.0 + tolerance) + tolerance;
+}
+
+// Whether a fragment of a triangle that lies on its receiver lies off the surface its pixel
+// shows, behind it or in front: where the pixel shows another surface, the light belongs to
+// no visible receiver. (Testing only "behind" would let the light on a face the camera sees
+// edge-on, a pillar's side, spill onto the wall beside the silhouette.) `inverse_depth` is
+// the fragment's 1 / view depth (gl_FragCoord.w) and `gradient` its derivative per pixel.
+// The depth buffer holds the output's pixels, so it is read at the one nearest the fragment,
+// up to half an output pixel away; on a floor seen at a grazing angle depth changes by several
+// per cent over that. So the fragment's depth is first carried there along its triangle's
+// plane, on which reciprocal depth is affine in screen space.
+bool off_scene(vec2 pixel, vec2 size, float inverse_depth, vec2 gradient, float tolerance) {
+    vec2 depth_size = vec2(textureSize(scene_depth, 0));
+    vec2 depth_uv = (floor(pixel / size * depth_size) + 0.5) / depth_size;
+    float at_depth_pixel = inverse_depth + dot(gradient, depth_uv * size - pixel);
+    float view_depth = 1.0 / max(at_depth_pixel, 1e-9);
+    float scene_z = scene_view_depth(depth_uv);
+    return abs(view_depth - scene_z) > scene_z * tolerance + tolerance;
+}
+
+// The same for a square splat, whose one depth (its photon's) is its receiver's at the centre
+// only. Its other pixels may lie up to `reach_px` target pixels away, over which the surface
+// they show changes depth by up to the scene depth's gradient times that: on a floor seen at a
+// grazing angle, by several per cent. The tolerance widens by that much. The gradient is the
+// smaller one-sided difference of each pair, which follows the surface on a silhouette's
+// near side, so a wall beside a pillar stays held to its own depth.
+bool square_off_scene(vec2 pixel, vec2 size, float view_depth, float reach_px, float tolerance) {
+    vec2 depth_size = vec2(textureSize(scene_depth, 0));
+    vec2 uv = (floor(pixel / size * depth_size) + 0.5) / depth_size;
+    vec2 step = 1.0 / depth_size;
+    float z = scene_view_depth(uv);
+    float dx = min(abs(z - scene_view_depth(uv - vec2(step.x, 0.0))), abs(scene_view_depth(uv + vec2(step.x, 0.0)) - z));
+    float dy = min(abs(z - scene_view_depth(uv - vec2(0.0, step.y))), abs(scene_view_depth(uv + vec2(0.0, step.y)) - z));
+    // Per target pixel: a target pixel spans depth_size / size depth-buffer pixels.
+    float change_per_px = length(vec2(dx, dy) * depth_size / size);
+    return abs(view_depth - z) > z * tolerance + tolerance + change_per_px * reach_px;
 }
 
 // Tolerances: a caustic splat sits on its receiver; a beam ends on it.

@@ -28,6 +28,10 @@ impl ComposePass {
     /// What the chosen compose variant reads: only the targets the frame has.
     pub fn bindings(caustics: bool, godrays: bool) -> Vec<(u32, Binding)> {
         let mut v = vec![(b::UNIFORMS, Binding::Storage), (b::SCENE_COLOR, Binding::Texture)];
+        if caustics || godrays {
+            // Effect targets are upsampled along the scene's depth (glsl/shared/depth_aware.glsl).
+            v.push((b::SCENE_DEPTH, Binding::Texture));
+        }
         if caustics {
             v.push((b::ALBEDO_TRANSMITTANCE, Binding::Texture));
             v.push((b::CAUSTICS, Binding::Texture));
@@ -58,7 +62,11 @@ impl ComposePass {
             device,
             &GraphicsPipelineDesc {
                 set_layouts: &[sets.layout],
-                specialization: &[(0, glow as u32)],
+                specialization: &[
+                    (0, glow as u32),
+                    (1, crate::frame::CAUSTIC_SAME_SURFACE.to_bits()),
+                    (2, crate::frame::GODRAY_SAME_SURFACE.to_bits()),
+                ],
                 ..GraphicsPipelineDesc::new("compose", "fullscreen.vert", fragment, output.render_pass.raw)
             },
         )?;

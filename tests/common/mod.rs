@@ -94,3 +94,36 @@ pub fn pool(amplitude: f32) -> Scene {
         meshes: vec![floor],
     }
 }
+
+/// An axis-aligned box mesh (outward normals) from `lo` to `hi`.
+pub fn block(name: &str, lo: Vec3, hi: Vec3) -> Mesh {
+    let mut positions = Vec::new();
+    let mut normals = Vec::new();
+    let mut indices = Vec::new();
+    for axis in 0..3 {
+        for &side in &[0.0f32, 1.0] {
+            let n = {
+                let mut n = Vec3::ZERO;
+                n[axis] = if side > 0.5 { 1.0 } else { -1.0 };
+                n
+            };
+            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+            let base = positions.len() as u32;
+            for &(a, b) in &[(0.0f32, 0.0f32), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)] {
+                let mut p = Vec3::ZERO;
+                p[axis] = if side > 0.5 { hi[axis] } else { lo[axis] };
+                p[u] = if a > 0.5 { hi[u] } else { lo[u] };
+                p[v] = if b > 0.5 { hi[v] } else { lo[v] };
+                positions.push(p);
+                normals.push(n);
+            }
+            // Counter-clockwise seen from outside.
+            if side > 0.5 {
+                indices.extend([base, base + 1, base + 2, base, base + 2, base + 3]);
+            } else {
+                indices.extend([base, base + 2, base + 1, base, base + 3, base + 2]);
+            }
+        }
+    }
+    Mesh { name: name.into(), positions, normals, indices, albedo: Vec3::splat(0.5) }
+}
