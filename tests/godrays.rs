@@ -1,7 +1,9 @@
-//! Godrays on the real driver against figures a correct renderer gives: the in-scattered
-//! radiance of a uniformly sunlit pool seen horizontally equals the analytic single-
-//! scattering integral; beams exist only under water; an occluder in the water casts a
-//! shadow shaft; the contribution fades with distance as e^(−γ·d).
+//! Godrays on the real driver against figures a correct renderer gives, for each method (the
+//! paper's beams and the ray march, `effects.godray_method`): the in-scattered radiance of a
+//! uniformly sunlit pool seen horizontally equals the analytic single-scattering integral, on
+//! and off the view axis; godrays exist only under water; an occluder in the water casts a
+//! shadow shaft; the contribution fades with distance as e^(−γ·d). And the tank's beams reach
+//! every part of its view that the CPU reference lights.
 
 mod common;
 
@@ -11,16 +13,17 @@ use underlight::frame::uniforms::directional_irradiance;
 use underlight::headless::SceneRenderer;
 use underlight::image_io::HdrImage;
 use underlight::reference::ReferenceSettings;
-use underlight::scene::Scene;
+use underlight::scene::{GodrayMethod, Scene};
 use underlight::shader_math::{fresnel_transmittance, henyey_greenstein};
 use underlight::vk::vk;
 
 const SIDE: u32 = 96;
 
 /// The pool seen horizontally from 1 m under water, along +x, with the godray target at the
-/// output's size.
-fn horizontal_pool() -> Scene {
+/// output's size, its godrays by `method`.
+fn horizontal_pool_by(method: GodrayMethod) -> Scene {
     let mut s = pool(0.0);
+    s.effects.godray_method = method;
     s.camera.position = Vec3::new(0.0, -1.0, 0.0);
     s.camera.look_at = Vec3::new(1.0, -1.0, 0.0);
     s.effects.godray_target_scale = 1.0;
@@ -59,97 +62,115 @@ fn block_mean(img: &HdrImage, xs: std::ops::Range<u32>, ys: std::ops::Range<u32>
 
 #[test]
 fn inscattering_matches_the_single_scattering_integral() {
-    let scene = horizontal_pool();
-    let g = godrays(&scene);
-    // Beams fall straight down 1 m of water to the camera's height, scatter by 90° towards
-    // it, and are seen from x = 0 to the pool's edge at x = 6:
-    //   L = σs · p(90°) · E⊥ · T(0) · e^(−γ·1) · (1 − e^(−γ·6)) / γ
-    let gamma = 0.13f64;
-    let expected = scene.medium.scattering as f64
-        * henyey_greenstein(0.0, scene.medium.hg_g) as f64
-        * directional_irradiance(&scene) as f64
-        * fresnel_transmittance(1.0, 1.333) as f64
-        * (-gamma).exp()
-        * (1.0 - (-gamma * 6.0).exp())
-        / gamma;
-    let got = block_mean(&g, 40..56, 44..52);
-    eprintln!("in-scattered radiance {got:e} W/(m²·sr), analytic {expected:e}");
-    // 5 %: the line raster's coverage and the beam lattice's discreteness; a missing σs,
-    // phase normalisation, pixel width or flux term is off by far more.
-    assert!((got / expected - 1.0).abs() < 0.05, "in-scattered radiance {got:e}, analytic {expected:e}");
-}
-
-#[test]
-fn inscattering_off_the_view_axis_matches_the_integral() {
-    // The same pool at the left and right sides of the view, ~28° off the axis: the rays are
-    // still level, so the beams still scatter by 90°, and each ray reaches the pool's edge
-    // after 6 m / cos α. The paper's `sin θ · l_pix` footprint, exact only on the axis, reads
-    // cos α ≈ 0.88 of this here (docs/units.md).
-    let scene = horizontal_pool();
-    let g = godrays(&scene);
-    let gamma = 0.13f64;
-    let tan_half = (scene.camera.fov_y_degrees as f64 / 2.0).to_radians().tan();
-    let along = |x: u32| {
-        let tan_a = ((x as f64 + 0.5) / SIDE as f64 * 2.0 - 1.0) * tan_half;
-        let path = 6.0 * (1.0 + tan_a * tan_a).sqrt();
-        scene.medium.scattering as f64
+    for method in GodrayMethod::ALL {
+        let scene = horizontal_pool_by(method);
+        let g = godrays(&scene);
+        // Light falls straight down 1 m of water to the camera's height, scatters by 90°
+        // towards it, and is seen from x = 0 to the pool's edge at x = 6:
+        //   L = σs · p(90°) · E⊥ · T(0) · e^(−γ·1) · (1 − e^(−γ·6)) / γ
+        let gamma = 0.13f64;
+        let expected = scene.medium.scattering as f64
             * henyey_greenstein(0.0, scene.medium.hg_g) as f64
             * directional_irradiance(&scene) as f64
             * fresnel_transmittance(1.0, 1.333) as f64
             * (-gamma).exp()
-            * (1.0 - (-gamma * path).exp())
-            / gamma
-    };
-    for columns in [0..8, SIDE - 8..SIDE] {
-        let expected = columns.clone().map(along).sum::<f64>() / columns.len() as f64;
-        let got = block_mean(&g, columns.clone(), 44..52);
-        eprintln!("columns {columns:?}: in-scattered radiance {got:e}, analytic {expected:e}");
-        assert!((got / expected - 1.0).abs() < 0.05, "columns {columns:?}: {got:e} against {expected:e}");
+            * (1.0 - (-gamma * 6.0).exp())
+            / gamma;
+        let got = block_mean(&g, 40..56, 44..52);
+        eprintln!("{}: in-scattered radiance {got:e} W/(m²·sr), analytic {expected:e}", method.name());
+        // 5 %: the beams' line raster coverage and lattice discreteness, the march's steps;
+        // a missing σs, phase normalisation, pixel width or flux term is off by far more.
+        assert!(
+            (got / expected - 1.0).abs() < 0.05,
+            "{}: in-scattered radiance {got:e}, analytic {expected:e}",
+            method.name()
+        );
+    }
+}
+
+#[test]
+fn inscattering_off_the_view_axis_matches_the_integral() {
+    for method in GodrayMethod::ALL {
+        eprintln!("godray method {}:", method.name());
+        // The same pool at the left and right sides of the view, ~28° off the axis: the rays are
+        // still level, so the beams still scatter by 90°, and each ray reaches the pool's edge
+        // after 6 m / cos α. The paper's `sin θ · l_pix` footprint, exact only on the axis, reads
+        // cos α ≈ 0.88 of this here (docs/units.md).
+        let scene = horizontal_pool_by(method);
+        let g = godrays(&scene);
+        let gamma = 0.13f64;
+        let tan_half = (scene.camera.fov_y_degrees as f64 / 2.0).to_radians().tan();
+        let along = |x: u32| {
+            let tan_a = ((x as f64 + 0.5) / SIDE as f64 * 2.0 - 1.0) * tan_half;
+            let path = 6.0 * (1.0 + tan_a * tan_a).sqrt();
+            scene.medium.scattering as f64
+                * henyey_greenstein(0.0, scene.medium.hg_g) as f64
+                * directional_irradiance(&scene) as f64
+                * fresnel_transmittance(1.0, 1.333) as f64
+                * (-gamma).exp()
+                * (1.0 - (-gamma * path).exp())
+                / gamma
+        };
+        for columns in [0..8, SIDE - 8..SIDE] {
+            let expected = columns.clone().map(along).sum::<f64>() / columns.len() as f64;
+            let got = block_mean(&g, columns.clone(), 44..52);
+            eprintln!("columns {columns:?}: in-scattered radiance {got:e}, analytic {expected:e}");
+            assert!((got / expected - 1.0).abs() < 0.05, "columns {columns:?}: {got:e} against {expected:e}");
+        }
     }
 }
 
 #[test]
 fn godrays_exist_only_under_water() {
-    // From 1 m above the water looking level, every beam point is below the camera: the
-    // upper half of the view crosses no water and must stay black.
-    let mut scene = horizontal_pool();
-    scene.camera.position = Vec3::new(0.0, 1.0, 0.0);
-    scene.camera.look_at = Vec3::new(1.0, 1.0, 0.0);
-    let g = godrays(&scene);
-    assert_eq!(block_mean(&g, 0..SIDE, 0..SIDE / 2 - 2), 0.0, "godray light above the water");
+    for method in GodrayMethod::ALL {
+        eprintln!("godray method {}:", method.name());
+        // From 1 m above the water looking level, every beam point is below the camera: the
+        // upper half of the view crosses no water and must stay black.
+        let mut scene = horizontal_pool_by(method);
+        scene.camera.position = Vec3::new(0.0, 1.0, 0.0);
+        scene.camera.look_at = Vec3::new(1.0, 1.0, 0.0);
+        let g = godrays(&scene);
+        assert_eq!(block_mean(&g, 0..SIDE, 0..SIDE / 2 - 2), 0.0, "godray light above the water");
+    }
 }
 
 #[test]
 fn an_occluder_in_the_water_casts_a_shadow_shaft() {
-    let open = godrays(&horizontal_pool());
-    let mut shaded = horizontal_pool();
-    // A plate 0.5 m under the surface over x ∈ [1, 3], straddling the view's centre line.
-    shaded.meshes.push(block("plate", Vec3::new(1.0, -0.55, -1.0), Vec3::new(3.0, -0.5, 1.0)));
-    let shadow = godrays(&shaded);
-    let (o, s) = (block_mean(&open, 44..52, 44..52), block_mean(&shadow, 44..52, 44..52));
-    eprintln!("shadowed / open {}", s / o);
-    // The plate removes the beams along x ∈ [1, 3] of the 6 m path: about a third of the
-    // light (e^(−γ) − e^(−3γ)) / (1 − e^(−6γ)) = 37 %.
-    assert!(s < 0.8 * o, "shadowed {s:e} vs open {o:e}");
-    assert!(s > 0.3 * o, "the rest of the path must still scatter: {s:e} vs {o:e}");
+    for method in GodrayMethod::ALL {
+        eprintln!("godray method {}:", method.name());
+        let open = godrays(&horizontal_pool_by(method));
+        let mut shaded = horizontal_pool_by(method);
+        // A plate 0.5 m under the surface over x ∈ [1, 3], straddling the view's centre line.
+        shaded.meshes.push(block("plate", Vec3::new(1.0, -0.55, -1.0), Vec3::new(3.0, -0.5, 1.0)));
+        let shadow = godrays(&shaded);
+        let (o, s) = (block_mean(&open, 44..52, 44..52), block_mean(&shadow, 44..52, 44..52));
+        eprintln!("shadowed / open {}", s / o);
+        // The plate removes the beams along x ∈ [1, 3] of the 6 m path: about a third of the
+        // light (e^(−γ) − e^(−3γ)) / (1 − e^(−6γ)) = 37 %.
+        assert!(s < 0.8 * o, "shadowed {s:e} vs open {o:e}");
+        assert!(s > 0.3 * o, "the rest of the path must still scatter: {s:e} vs {o:e}");
+    }
 }
 
 #[test]
 fn godrays_fade_with_distance() {
-    // A wall across the view at distance ℓ cuts the path: with strong attenuation the
-    // second 2 m add far less than the first (e^(−γ·2)), not as much.
-    let walled = |l: f32| {
-        let mut s = horizontal_pool();
-        s.medium.gamma = Vec3::splat(0.5);
-        s.meshes.push(block("wall", Vec3::new(l, -2.0, -6.0), Vec3::new(l + 0.1, 0.2, 6.0)));
-        block_mean(&godrays(&s), 44..52, 44..52)
-    };
-    let (near, far) = (walled(2.0), walled(4.0));
-    // Analytic ratio (1 − e^(−2)) / (1 − e^(−1)) = 1.37 for γ = 0.5; without attenuation it
-    // would be 2.
-    let ratio = far / near;
-    eprintln!("4 m / 2 m path ratio {ratio} (analytic 1.368)");
-    assert!((ratio - 1.368).abs() < 0.1, "ratio of 4 m to 2 m paths {ratio}");
+    for method in GodrayMethod::ALL {
+        eprintln!("godray method {}:", method.name());
+        // A wall across the view at distance ℓ cuts the path: with strong attenuation the
+        // second 2 m add far less than the first (e^(−γ·2)), not as much.
+        let walled = |l: f32| {
+            let mut s = horizontal_pool_by(method);
+            s.medium.gamma = Vec3::splat(0.5);
+            s.meshes.push(block("wall", Vec3::new(l, -2.0, -6.0), Vec3::new(l + 0.1, 0.2, 6.0)));
+            block_mean(&godrays(&s), 44..52, 44..52)
+        };
+        let (near, far) = (walled(2.0), walled(4.0));
+        // Analytic ratio (1 − e^(−2)) / (1 − e^(−1)) = 1.37 for γ = 0.5; without attenuation it
+        // would be 2.
+        let ratio = far / near;
+        eprintln!("4 m / 2 m path ratio {ratio} (analytic 1.368)");
+        assert!((ratio - 1.368).abs() < 0.1, "ratio of 4 m to 2 m paths {ratio}");
+    }
 }
 
 /// The tank's godray buffer against the CPU reference over an 8 × 5 grid of blocks of its view

@@ -5,7 +5,7 @@
 
 use glam::{Vec2, Vec3};
 use std::path::{Path, PathBuf};
-use underlight::scene::{self, generate, obj, LightKind, Mesh, Scene, WaterModel};
+use underlight::scene::{self, generate, obj, GodrayMethod, LightKind, Mesh, Scene, WaterModel};
 
 /// A fresh scratch folder for one test (tests run in parallel in one process, so the tag
 /// must be unique per test).
@@ -643,6 +643,36 @@ fn light_fields_must_fit_the_kind() {
         &["light.distance does not apply to a point light"],
     );
     assert_error(&dir, &point.replace("position = [0.0, 5.0, 0.0]\n", ""), &["light.position", "point"]);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn godray_method_is_read_and_marched_needs_a_directional_light() {
+    let dir = fixture("godray-method");
+    let marched = format!("{VALID}\n[effects]\ngodray_method = \"marched\"\n");
+    let s = scene::load_str(&marched, &dir.join("x.toml")).unwrap();
+    assert_eq!(s.effects.godray_method, GodrayMethod::Marched);
+    let beams = format!("{VALID}\n[effects]\ngodray_method = \"beams\"\n");
+    assert_eq!(scene::load_str(&beams, &dir.join("x.toml")).unwrap().effects.godray_method, GodrayMethod::Beams);
+    // A wrong name: the file, the line and column of the value, the field and the valid names.
+    assert_error(
+        &dir,
+        &format!("{VALID}\n[effects]\ngodray_method = \"rays\"\n"),
+        &["x.toml:30:17: effects.godray_method: unknown variant `rays`, expected `beams` or `marched`"],
+    );
+    assert_error(&dir, &format!("{VALID}\n[effects]\ngodray_method = 2\n"), &["effects.godray_method", "invalid type"]);
+    // The march lights its steps along the sun's one direction: a point light is refused.
+    let point = edit(
+        "kind = \"directional\"\ndirection = [0.2, -1.0, 0.1]\n",
+        "kind = \"point\"\nposition = [0.0, 5.0, 0.0]\n",
+    );
+    assert_error(
+        &dir,
+        &format!("{point}\n[effects]\ngodray_method = \"marched\"\n"),
+        &["x.toml:30: effects.godray_method = \"marched\" needs a directional light, and light.kind is \"point\""],
+    );
+    let s = scene::load_str(&format!("{point}\n[effects]\ngodray_method = \"beams\"\n"), &dir.join("x.toml")).unwrap();
+    assert_eq!((s.light.kind, s.effects.godray_method), (LightKind::Point, GodrayMethod::Beams));
     std::fs::remove_dir_all(&dir).ok();
 }
 

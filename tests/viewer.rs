@@ -60,6 +60,7 @@ fn viewer_sessions_under_xvfb() {
         line_width: 1.0,
         filter: true,
         estimator: estimator.into(),
+        godray_method: "beams".into(),
         effect_ms: 1.0,
         frame_ms: 1.0,
         caustics: Some(underlight::metrics::BufferError { relative_rmse: caustic, ..Default::default() }),

@@ -6,6 +6,7 @@
 // kernel does not carry light across a silhouette.
 #include "shader_math.glsl"
 #include "depth_aware.glsl"
+#include "pixel_noise.glsl"
 
 layout(constant_id = 0) const int TAPS = 8;
 layout(push_constant) uniform FilterPush {
@@ -17,16 +18,10 @@ layout(set = 0, binding = BINDING_FILTER_INPUT) uniform sampler2D input_buffer;
 layout(location = 0) in vec2 v_uv;
 layout(location = 0) out vec4 out_color;
 
-// Interleaved gradient noise (Jimenez 2014): a per-pixel rotation with little low-frequency
-// structure.
-float rotation_noise(vec2 p) {
-    return fract(52.9829189 * fract(dot(p, vec2(0.06711056, 0.00583715))));
-}
-
 void main() {
     vec2 size = vec2(textureSize(input_buffer, 0));
     vec2 texel = 1.0 / size;
-    float angle = 2.0 * PI * rotation_noise(gl_FragCoord.xy);
+    float angle = 2.0 * PI * pixel_noise(gl_FragCoord.xy);
     SurfacePlane plane = surface_plane(v_uv, size);
     vec4 sum = texelFetch(input_buffer, ivec2(gl_FragCoord.xy), 0);
     float taken = 1.0;

@@ -3,7 +3,7 @@
 //! reference settings.
 
 use crate::reference::ReferenceSettings;
-use crate::scene::{CausticEstimator, Scene};
+use crate::scene::{CausticEstimator, GodrayMethod, LightKind, Scene};
 use anyhow::{bail, Result};
 use std::path::PathBuf;
 
@@ -18,6 +18,7 @@ pub struct SweepAxes {
     pub line_width: Vec<f32>,
     pub filter: Vec<bool>,
     pub estimator: Vec<CausticEstimator>,
+    pub godray_method: Vec<GodrayMethod>,
 }
 
 impl SweepAxes {
@@ -47,6 +48,18 @@ impl SweepAxes {
         Ok(())
     }
 
+    /// The axes against the scene they vary, checked before any GPU work: the marched
+    /// godrays need a directional light (as in a scene file, `effects.godray_method`).
+    pub fn validate_for(&self, scene: &Scene) -> Result<()> {
+        if self.godray_method.contains(&GodrayMethod::Marched) && scene.light.kind == LightKind::Point {
+            bail!(
+                "--godray-method marched needs a directional light, and scene {:?} has a point light: sweep beams only",
+                scene.name
+            );
+        }
+        Ok(())
+    }
+
     /// Every combination, applied to `base`.
     pub fn scenes(&self, base: &Scene) -> Vec<Scene> {
         let e = &base.effects;
@@ -54,6 +67,15 @@ impl SweepAxes {
         let orf = |v: &Vec<f32>, d: f32| if v.is_empty() { vec![d] } else { v.clone() };
         let filters = if self.filter.is_empty() { vec![e.filter] } else { self.filter.clone() };
         let estimators = if self.estimator.is_empty() { vec![e.caustic_estimator] } else { self.estimator.clone() };
+        let godray_methods =
+            if self.godray_method.is_empty() { vec![e.godray_method] } else { self.godray_method.clone() };
+        // Filter, estimator and godray method, the last varying fastest.
+        let mut switches: Vec<(bool, CausticEstimator, GodrayMethod)> = Vec::new();
+        for &filter in &filters {
+            for &estimator in &estimators {
+                switches.extend(godray_methods.iter().map(|&method| (filter, estimator, method)));
+            }
+        }
         let mut out = Vec::new();
         for &grid in &or(&self.grid, e.caustic_grid) {
             for &sub in &or(&self.subdivision, e.caustic_subdivision) {
@@ -61,9 +83,7 @@ impl SweepAxes {
                     for &scale in &orf(&self.target_scale, e.caustic_target_scale) {
                         for &size in &orf(&self.point_size, e.point_size_max) {
                             for &width in &orf(&self.line_width, e.line_width) {
-                                for (&filter, &estimator) in
-                                    filters.iter().flat_map(|f| estimators.iter().map(move |e| (f, e)))
-                                {
+                                for &(filter, estimator, godray_method) in &switches {
                                     let mut s = base.clone();
                                     let fx = &mut s.effects;
                                     fx.caustic_grid = grid;
@@ -75,11 +95,17 @@ impl SweepAxes {
                                     fx.line_width = width;
                                     fx.filter = filter;
                                     fx.caustic_estimator = estimator;
+                                    fx.godray_method = godray_method;
                                     // The triangle estimator's subdivision bound (its
                                     // geometry shader's output limit) skips larger ones.
                                     if estimator == CausticEstimator::Triangles
                                         && sub > crate::shader_math::TRIANGLE_MAX_SUBDIVISION
                                     {
+                                        continue;
+                                    }
+                                    // The marched godrays need a directional light: a point
+                                    // light's scene skips them (`validate_for` refuses them).
+                                    if godray_method == GodrayMethod::Marched && s.light.kind == LightKind::Point {
                                         continue;
                                     }
                                     out.push(s);
@@ -105,4 +131,37 @@ pub struct SweepSpec<'a> {
     pub warmup: u32,
     pub reference: ReferenceSettings,
     pub cache_dir: PathBuf,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::LightKind;
+
+    #[test]
+    fn the_godray_method_is_an_axis_and_marched_needs_a_directional_light() {
+        let tank = crate::scene::load("tank").unwrap();
+        let axes = SweepAxes {
+            subdivision: vec![2, 4],
+            estimator: vec![CausticEstimator::Paper, CausticEstimator::Triangles],
+            godray_method: vec![GodrayMethod::Beams, GodrayMethod::Marched],
+            ..Default::default()
+        };
+        axes.validate_for(&tank).unwrap();
+        let methods = |scenes: &[Scene]| scenes.iter().map(|s| s.effects.godray_method).collect::<Vec<_>>();
+        // Subdivision 2: both estimators, each with both methods; 4: the paper's points only.
+        let scenes = axes.scenes(&tank);
+        assert_eq!(methods(&scenes), [GodrayMethod::Beams, GodrayMethod::Marched].repeat(3));
+        // Empty: the scene's own method.
+        let own = SweepAxes { godray_method: vec![], ..axes.clone() }.scenes(&tank);
+        assert!(own.iter().all(|s| s.effects.godray_method == tank.effects.godray_method), "{:?}", methods(&own));
+        assert_eq!(own.len(), 3);
+        // A point light: asking for the march is refused, and the combinations skip it.
+        let mut point = tank.clone();
+        point.light.kind = LightKind::Point;
+        let refused = axes.validate_for(&point).unwrap_err().to_string();
+        assert!(refused.contains("--godray-method marched needs a directional light"), "{refused}");
+        assert_eq!(methods(&axes.scenes(&point)), [GodrayMethod::Beams; 3]);
+        SweepAxes { godray_method: vec![GodrayMethod::Beams], ..axes }.validate_for(&point).unwrap();
+    }
 }

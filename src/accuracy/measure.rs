@@ -30,6 +30,9 @@ pub struct SweepRow {
     pub filter: bool,
     /// `CausticEstimator::name`.
     pub estimator: String,
+    /// `GodrayMethod::name`. Sweeps written before the method existed read as the beams.
+    #[serde(default = "default_godray_method")]
+    pub godray_method: String,
     /// Median GPU ms of the passes the settings change: shadow, caustics, godrays, filter.
     pub effect_ms: f64,
     /// Median GPU ms of the whole frame (all passes).
@@ -46,6 +49,12 @@ pub struct SweepRow {
     pub pareto: bool,
 }
 
+/// The godray method of a row read without one: sweeps from before the method was an axis
+/// measured the beams.
+fn default_godray_method() -> String {
+    crate::scene::GodrayMethod::Beams.name().to_string()
+}
+
 /// The buffers compose reads: the filtered ones where the frame filters.
 fn shown<'a>(filtered: &'a Option<HdrImage>, raw: &'a Option<HdrImage>) -> Option<&'a HdrImage> {
     filtered.as_ref().or(raw.as_ref())
@@ -60,10 +69,11 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
     for (k, scene) in scenes.iter().enumerate() {
         let e = &scene.effects;
         eprintln!(
-            "setting {}/{}: {} estimator, grid {}² × {}², {} iterations, target ×{}, points ≤ {} px, lines {} px, filter {}",
+            "setting {}/{}: {} estimator, {} godrays, grid {}² × {}², {} iterations, target ×{}, points ≤ {} px, lines {} px, filter {}",
             k + 1,
             scenes.len(),
             e.caustic_estimator.name(),
+            e.godray_method.name(),
             e.caustic_grid,
             e.caustic_subdivision,
             e.iterations,
@@ -122,6 +132,7 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
             line_width: e.line_width,
             filter: e.filter,
             estimator: e.caustic_estimator.name().to_string(),
+            godray_method: e.godray_method.name().to_string(),
             effect_ms,
             frame_ms,
             caustics: error(gpu_c, &reference.caustics)?,

@@ -24,7 +24,7 @@ pub fn mark_pareto(rows: &mut [SweepRow]) {
 
 pub fn csv(rows: &[SweepRow]) -> String {
     let mut s = String::from(
-        "estimator,caustic_grid,caustic_subdivision,caustic_photons,iterations,caustic_target_w,caustic_target_h,point_size_max,\
+        "estimator,godray_method,caustic_grid,caustic_subdivision,caustic_photons,iterations,caustic_target_w,caustic_target_h,point_size_max,\
          line_width,filter,effect_ms,frame_ms,caustic_rel_rmse,caustic_mean_rel_error,caustic_flux_error,\
          godray_rel_rmse,godray_mean_rel_error,godray_flux_error,flip,caustic_change_gpu,caustic_change_reference,pareto\n",
     );
@@ -34,8 +34,9 @@ pub fn csv(rows: &[SweepRow]) -> String {
     };
     for r in rows {
         s += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{},{},{:.5},{:.5},{:.5},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{},{},{:.5},{:.5},{:.5},{}\n",
             r.estimator,
+            r.godray_method,
             r.caustic_grid,
             r.caustic_subdivision,
             r.caustic_photons,
@@ -61,15 +62,16 @@ pub fn csv(rows: &[SweepRow]) -> String {
 /// A table for the terminal and docs (Markdown).
 pub fn table(rows: &[SweepRow]) -> String {
     let mut s = String::from(
-        "| estimator | photons | iter | target | points ≤ | filter | effect ms | caustic rel RMSE | flux err | godray rel RMSE | FLIP | change GPU / ref | front |\n\
-         | --- | ---: | ---: | --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | --- | --- |\n",
+        "| estimator | godrays | photons | iter | target | points ≤ | filter | effect ms | caustic rel RMSE | flux err | godray rel RMSE | FLIP | change GPU / ref | front |\n\
+         | --- | --- | ---: | ---: | --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | --- | --- |\n",
     );
     for r in rows {
         let c = r.caustics.map(|e| (format!("{:.3}", e.relative_rmse), format!("{:+.1} %", 100.0 * e.flux_error)));
         let (c_rmse, c_flux) = c.unwrap_or(("–".into(), "–".into()));
         s += &format!(
-            "| {} | {}² × {}² | {} | {}×{} | {} | {} | {:.1} | {} | {} | {} | {:.3} | {:.3} / {:.3} | {} |\n",
+            "| {} | {} | {}² × {}² | {} | {}×{} | {} | {} | {:.1} | {} | {} | {} | {:.3} | {:.3} / {:.3} | {} |\n",
             r.estimator,
+            r.godray_method,
             r.caustic_grid,
             r.caustic_subdivision,
             r.iterations,
@@ -169,4 +171,61 @@ fn register_font() -> Result<()> {
         })
         .clone()
         .map_err(|e| anyhow::anyhow!(e))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(estimator: &str, godray_method: &str) -> SweepRow {
+        let e = Some(BufferError { relative_rmse: 0.5, ..Default::default() });
+        SweepRow {
+            scene: "tank".into(),
+            caustic_grid: 100,
+            caustic_subdivision: 3,
+            caustic_photons: 300u64.pow(2),
+            iterations: 5,
+            caustic_target: [154, 96],
+            point_size_max: 20.0,
+            line_width: 1.0,
+            filter: true,
+            estimator: estimator.into(),
+            godray_method: godray_method.into(),
+            effect_ms: 1.0,
+            frame_ms: 2.0,
+            caustics: e,
+            godrays: e,
+            flip: 0.1,
+            caustic_change_gpu: 0.2,
+            caustic_change_reference: 0.2,
+            pareto: true,
+        }
+    }
+
+    #[test]
+    fn the_godray_method_is_a_column_after_the_estimator() {
+        let text = csv(&[row("triangles", "marched"), row("paper", "beams")]);
+        let lines: Vec<&str> = text.lines().collect();
+        assert!(lines[0].starts_with("estimator,godray_method,caustic_grid,"), "{}", lines[0]);
+        let columns = lines[0].split(',').count();
+        for line in &lines[1..] {
+            assert_eq!(line.split(',').count(), columns, "{line}");
+        }
+        assert!(lines[1].starts_with("triangles,marched,100,") && lines[2].starts_with("paper,beams,100,"), "{text}");
+        let md = table(&[row("triangles", "marched")]);
+        assert!(md.starts_with("| estimator | godrays | photons |"), "{md}");
+        assert!(md.contains("\n| triangles | marched | 100² × 3² |"), "{md}");
+        // The Markdown separator row has a cell per column.
+        let cells = |line: &str| line.matches('|').count();
+        let md_lines: Vec<&str> = md.lines().collect();
+        assert!(md_lines.iter().all(|l| cells(l) == cells(md_lines[0])), "{md}");
+    }
+
+    #[test]
+    fn sweeps_written_before_the_godray_method_read_as_beams() {
+        let mut old = serde_json::to_value(row("paper", "marched")).unwrap();
+        old.as_object_mut().unwrap().remove("godray_method");
+        let read: SweepRow = serde_json::from_value(old).unwrap();
+        assert_eq!(read.godray_method, "beams");
+    }
 }

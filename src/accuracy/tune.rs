@@ -55,9 +55,9 @@ pub fn pick(rows: &[SweepRow], goal: TuneGoal) -> Result<&SweepRow, TuneMiss> {
     }
 }
 
-/// The measured setting nearest to `effects` on `scene`: the same estimator, the nearest
-/// photon count (by ratio), then the same filter and iteration count. None where the sweep
-/// measured no setting of that scene and estimator.
+/// The measured setting nearest to `effects` on `scene`: the same estimator and godray
+/// method, the nearest photon count (by ratio), then the same filter and iteration count.
+/// None where the sweep measured no setting of that scene, estimator and godray method.
 pub fn nearest_setting<'a>(rows: &'a [SweepRow], scene: &str, effects: &crate::scene::Effects) -> Option<&'a SweepRow> {
     let photons = ((effects.caustic_grid * effects.caustic_subdivision) as f64).powi(2);
     let distance = |r: &SweepRow| {
@@ -65,15 +65,19 @@ pub fn nearest_setting<'a>(rows: &'a [SweepRow], scene: &str, effects: &crate::s
         (ratio, r.filter != effects.filter, r.iterations.abs_diff(effects.iterations))
     };
     rows.iter()
-        .filter(|r| r.scene == scene && r.estimator == effects.caustic_estimator.name())
+        .filter(|r| {
+            r.scene == scene
+                && r.estimator == effects.caustic_estimator.name()
+                && r.godray_method == effects.godray_method.name()
+        })
         .min_by(|a, b| distance(a).partial_cmp(&distance(b)).unwrap_or(std::cmp::Ordering::Equal))
 }
 
 /// The `[effects]` table of a scene file with the picked setting (what the sweep varied).
 pub fn effects_block(row: &SweepRow) -> String {
     format!(
-        "[effects]\ncaustic_estimator = \"{}\"\ncaustic_grid = {}\ncaustic_subdivision = {}\niterations = {}\nfilter = {}\n",
-        row.estimator, row.caustic_grid, row.caustic_subdivision, row.iterations, row.filter
+        "[effects]\ncaustic_estimator = \"{}\"\ncaustic_grid = {}\ncaustic_subdivision = {}\ngodray_method = \"{}\"\niterations = {}\nfilter = {}\n",
+        row.estimator, row.caustic_grid, row.caustic_subdivision, row.godray_method, row.iterations, row.filter
     )
 }
 
@@ -95,6 +99,7 @@ mod tests {
             line_width: 1.0,
             filter: true,
             estimator: "triangles".into(),
+            godray_method: "beams".into(),
             effect_ms: ms,
             frame_ms: ms,
             caustics: e(caustic),
@@ -133,7 +138,11 @@ mod tests {
         assert!(nearest_setting(&rows, "port", &effects).is_none(), "another scene's sweep");
         effects.caustic_estimator = crate::scene::CausticEstimator::Paper;
         assert!(nearest_setting(&rows, "tank", &effects).is_none(), "another estimator's rows");
+        effects.caustic_estimator = crate::scene::CausticEstimator::Triangles;
+        effects.godray_method = crate::scene::GodrayMethod::Marched;
+        assert!(nearest_setting(&rows, "tank", &effects).is_none(), "another godray method's rows");
         let block = effects_block(&rows[1]);
         assert!(block.starts_with("[effects]\n") && block.contains("caustic_grid = 300"), "{block}");
+        assert!(block.contains("godray_method = \"beams\"\n"), "{block}");
     }
 }

@@ -1,8 +1,8 @@
 //! The named benchmark configurations (`--config`): the paper's table, the ones added beside
-//! it (triangles-800, above-800) and a tiny one for smoke tests, and how a configuration is
+//! it (triangles-800, marched-800, above-800) and a tiny one for smoke tests, and how a configuration is
 //! applied to a scene.
 
-use crate::scene::{CausticEstimator, Scene};
+use crate::scene::{CausticEstimator, GodrayMethod, Scene};
 use serde::Serialize;
 
 /// A benchmark configuration: the output size and effect settings applied to a scene.
@@ -18,6 +18,8 @@ pub struct BenchConfig {
     /// The caustic estimator (the paper's points), and its own subdivision where it differs.
     pub caustic_estimator: CausticEstimator,
     pub caustic_subdivision: Option<u32>,
+    /// The godray method (the paper's beams).
+    pub godray_method: GodrayMethod,
     /// Effect targets as fractions of the output; `None` keeps the scene's.
     pub caustic_target_scale: Option<f32>,
     pub godray_target_scale: Option<f32>,
@@ -43,6 +45,7 @@ pub fn configs() -> Vec<BenchConfig> {
         subdivision: 2,
         caustic_estimator: CausticEstimator::Paper,
         caustic_subdivision: None,
+        godray_method: GodrayMethod::Beams,
         // 512² and 128² at 800².
         caustic_target_scale: Some(0.64),
         godray_target_scale: Some(0.16),
@@ -85,6 +88,17 @@ pub fn configs() -> Vec<BenchConfig> {
             paper_fps: "-",
             ..base.clone()
         },
+        // Not in the paper: triangles-800 with ray-marched godrays instead of beams, the cheap
+        // end of the godray trade (docs/performance.md).
+        BenchConfig {
+            name: "marched-800",
+            caustic_estimator: CausticEstimator::Triangles,
+            caustic_grid: 100,
+            caustic_subdivision: Some(3),
+            godray_method: GodrayMethod::Marched,
+            paper_fps: "-",
+            ..base.clone()
+        },
         // Not in the paper: its camera stays under the water.
         BenchConfig { name: "above-800", camera_above: true, paper_fps: "-", ..base.clone() },
         BenchConfig { name: "tiny", width: 96, height: 96, caustic_grid: 16, godray_grid: 8, paper_fps: "-", ..base },
@@ -101,6 +115,7 @@ impl BenchConfig {
         e.caustic_subdivision = self.caustic_subdivision.unwrap_or(self.subdivision);
         e.godray_subdivision = self.subdivision;
         e.caustic_estimator = self.caustic_estimator;
+        e.godray_method = self.godray_method;
         if let Some(v) = self.caustic_target_scale {
             e.caustic_target_scale = v;
         }

@@ -10,7 +10,7 @@ use crate::image_io::HdrImage;
 use crate::memory::{self, FrameMemory};
 use crate::passes::PassId;
 use crate::passes::PhotonPath;
-use crate::scene::{CausticEstimator, Scene};
+use crate::scene::{CausticEstimator, GodrayMethod, Scene};
 use crate::vk::device::Device;
 use anyhow::{bail, Result};
 use ash::vk;
@@ -186,7 +186,8 @@ fn measure(
         } else {
             0
         },
-        godray_photons: if renderer.frame.plan.runs(PassId::Godrays) {
+        // The marched godrays cast no photons.
+        godray_photons: if renderer.frame.plan.runs(PassId::Godrays) && config.godray_method == GodrayMethod::Beams {
             n(config.godray_grid, config.subdivision)
         } else {
             0

@@ -119,6 +119,15 @@ fn caustic_estimator(name: &str) -> std::result::Result<underlight::scene::Caust
     })
 }
 
+/// `sweep --godray-method` values.
+fn godray_method(name: &str) -> std::result::Result<underlight::scene::GodrayMethod, String> {
+    use underlight::scene::GodrayMethod;
+    GodrayMethod::from_name(name).ok_or_else(|| {
+        let names: Vec<&str> = GodrayMethod::ALL.iter().map(|m| m.name()).collect();
+        format!("no godray method {name:?}; there are {}", names.join(", "))
+    })
+}
+
 /// Creates the parent folder of each output path up front, so a bad path fails before any
 /// GPU work.
 /// Makes the outputs' folders and checks each output can be written there, before any

@@ -2,7 +2,7 @@
 //! reference.
 
 use super::reference::ReferenceOptions;
-use super::{caustic_estimator, context_desc, finish, output_side, Cli, OnOff};
+use super::{caustic_estimator, context_desc, finish, godray_method, output_side, Cli, OnOff};
 use anyhow::{bail, Context as _, Result};
 use std::path::PathBuf;
 use underlight::vk::Context;
@@ -41,6 +41,9 @@ pub(super) struct SweepArgs {
     /// Caustic estimators: paper, triangles (comma-separated).
     #[arg(long, value_delimiter = ',', value_parser = caustic_estimator)]
     estimator: Vec<underlight::scene::CausticEstimator>,
+    /// Godray methods: beams, marched (comma-separated; marched needs a directional light).
+    #[arg(long, value_delimiter = ',', value_parser = godray_method)]
+    godray_method: Vec<underlight::scene::GodrayMethod>,
     /// Timed frames per setting (median) and warm-up frames.
     #[arg(long, default_value_t = 5)]
     frames: u32,
@@ -74,8 +77,10 @@ pub(super) fn run(cli: &Cli, args: &SweepArgs) -> Result<i32> {
         line_width: args.line_width.clone(),
         filter,
         estimator: args.estimator.clone(),
+        godray_method: args.godray_method.clone(),
     };
     axes.validate()?;
+    axes.validate_for(&scene)?;
     std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
     let ctx = Context::new(&context_desc(cli))?;
     println!("device: {}", ctx.device.info.describe());
@@ -107,4 +112,32 @@ pub(super) fn run(cli: &Cli, args: &SweepArgs) -> Result<i32> {
     accuracy::plot(&rows, &title, &png)?;
     println!("wrote {}", png.display());
     Ok(finish(ctx))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{Cli, Command};
+    use clap::Parser as _;
+    use underlight::scene::GodrayMethod;
+
+    fn sweep(args: &[&str]) -> Result<super::SweepArgs, clap::Error> {
+        let cli = Cli::try_parse_from(["underlight", "sweep"].iter().chain(args))?;
+        match cli.command {
+            Command::Sweep(args) => Ok(args),
+            _ => unreachable!("parsed as another subcommand"),
+        }
+    }
+
+    #[test]
+    fn godray_methods_are_a_comma_separated_axis_empty_by_default() {
+        let both = sweep(&["--godray-method", "beams,marched"]).unwrap();
+        assert_eq!(both.godray_method, [GodrayMethod::Beams, GodrayMethod::Marched]);
+        assert_eq!(sweep(&["--godray-method=marched"]).unwrap().godray_method, [GodrayMethod::Marched]);
+        assert!(sweep(&[]).unwrap().godray_method.is_empty());
+        let wrong = sweep(&["--godray-method", "beams,rays"]).err().expect("accepted rays").to_string();
+        assert!(
+            wrong.contains("--godray-method") && wrong.contains("no godray method \"rays\"; there are beams, marched"),
+            "{wrong}"
+        );
+    }
 }

@@ -31,7 +31,7 @@ pub(super) struct TuneArgs {
     #[arg(long, value_parser = output_side, default_value_t = 200)]
     height: u32,
     /// Also write the scene file with the picked settings here: the scene's own file with its
-    /// [effects] keys that tune varies replaced, and its OBJ paths made absolute.
+    /// [effects] keys that the printed block sets replaced, and its OBJ paths made absolute.
     #[arg(long, value_name = "FILE")]
     write: Option<PathBuf>,
     /// Folder for the table and the plot of the settings it chose from.
@@ -103,10 +103,11 @@ pub(super) fn run(cli: &Cli, args: &TuneArgs) -> Result<i32> {
     match accuracy::pick(&rows, goal) {
         Ok(row) => {
             println!(
-                "\npicked: {} estimator, {}² × {}² photons: error {:.3} (caustics {:.3}, godrays {:.3}) in {:.1} ms of effect passes",
+                "\npicked: {} estimator, {}² × {}² photons, {} godrays: error {:.3} (caustics {:.3}, godrays {:.3}) in {:.1} ms of effect passes",
                 row.estimator,
                 row.caustic_grid,
                 row.caustic_subdivision,
+                row.godray_method,
                 accuracy::tune_error(row),
                 row.caustics.map_or(0.0, |e| e.relative_rmse),
                 row.godrays.map_or(0.0, |e| e.relative_rmse),
@@ -150,6 +151,7 @@ fn write_scene(scene: &str, row: &underlight::accuracy::SweepRow, path: &std::pa
     effects["caustic_estimator"] = toml_edit::value(row.estimator.clone());
     effects["caustic_grid"] = toml_edit::value(i64::from(row.caustic_grid));
     effects["caustic_subdivision"] = toml_edit::value(i64::from(row.caustic_subdivision));
+    effects["godray_method"] = toml_edit::value(row.godray_method.clone());
     effects["iterations"] = toml_edit::value(i64::from(row.iterations));
     effects["filter"] = toml_edit::value(row.filter);
     let header = format!(

@@ -10,7 +10,7 @@ pub mod uniforms;
 
 pub use crate::shader_abi::bindings;
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::passes::caustics::CausticsPass;
 use crate::passes::compose::ComposePass;
 use crate::passes::filter::FilterPass;
@@ -22,7 +22,7 @@ use crate::passes::scene::{Background, ScenePass, SurfaceInputs};
 use crate::passes::shadow::ShadowPass;
 use crate::passes::PassId;
 use crate::passes::{photon_set_index, PHOTON_SETS};
-use crate::scene::{CausticEstimator, Scene};
+use crate::scene::{CausticEstimator, GodrayMethod, LightKind, Scene};
 use crate::shader_math::NoiseTexture;
 use crate::vk::buffer::Buffer;
 use crate::vk::commands::FRAMES_IN_FLIGHT;
@@ -433,7 +433,22 @@ impl Frame {
         let godrays = if plan.runs(PassId::Godrays) {
             let e = &scene.effects;
             let ext = vk::Extent2D { width: extents.godray[0], height: extents.godray[1] };
-            Some(GodraysPass::new(device, ext, e.godray_grid, e.godray_subdivision, e.line_width, options.photon_path)?)
+            // The scene file refuses this too; a scene built in code reaches here.
+            if e.godray_method == GodrayMethod::Marched && scene.light.kind == LightKind::Point {
+                return Err(Error::InvalidParameter {
+                    name: "godray_method",
+                    message: "\"marched\" needs a directional light: it takes the light through flat water along one refracted direction".into(),
+                });
+            }
+            Some(GodraysPass::new(
+                device,
+                ext,
+                e.godray_grid,
+                e.godray_subdivision,
+                e.line_width,
+                e.godray_method,
+                options.photon_path,
+            )?)
         } else {
             None
         };

@@ -2,10 +2,16 @@
 //! lands becomes a line from the water surface to its hit, whose fragments add the beam's
 //! in-scattered radiance (Henyey–Greenstein phase, attenuation along both legs) into a
 //! low-resolution RGBA32F target. Units: docs/units.md.
+//!
+//! Or, with `effects.godray_method = "marched"`, the cheap end of the trade: one fullscreen
+//! draw over the same target in which each pixel marches its view ray through the water
+//! (glsl/godrays/godrays_marched.frag): single scattering through flat water, shadowed by the
+//! light's position map, no photons.
 
 use crate::error::{Error, Result};
 use crate::passes::photon_accumulation::{dispatch_per_photon, require_float_atomics, AtomicAccumulation};
 use crate::passes::{require_accumulation_format, PhotonPath, ACCUMULATION_FORMAT, PHOTON_SETS};
+use crate::scene::GodrayMethod;
 use crate::shader_abi::bindings as b;
 use crate::shader_math::GODRAY_MAX_SUBDIVISION;
 use crate::shaders;
@@ -25,9 +31,14 @@ pub const BINDINGS: &[(u32, Binding)] = &[
     (b::SCENE_DEPTH, Binding::Texture),
 ];
 
+/// Steps of the marched method along each pixel's under-water ray. The samples are dithered
+/// per pixel, so fewer steps turn into noise, which the filter smooths, rather than bands.
+pub const MARCH_STEPS: u32 = 32;
+
 pub struct GodraysPass {
+    pub method: GodrayMethod,
     /// The geometry shader, vertex-only or compute path (the splat floor is a caustics-only
-    /// measurement: godrays use the geometry shader there).
+    /// measurement: godrays use the geometry shader there). The marched method has none.
     pub path: PhotonPath,
     pub grid: u32,
     pub subdivision: u32,
@@ -48,9 +59,13 @@ impl GodraysPass {
         grid: u32,
         subdivision: u32,
         line_width: f32,
+        method: GodrayMethod,
         path: PhotonPath,
     ) -> Result<Self> {
         let path = if path == PhotonPath::SplatFloor { PhotonPath::GeometryShader } else { path };
+        if method == GodrayMethod::Marched {
+            return Self::marched(device, extent, grid, subdivision, line_width);
+        }
         if path == PhotonPath::Compute {
             require_float_atomics(device)?;
         }
@@ -117,7 +132,62 @@ impl GodraysPass {
                 None,
             ),
         };
-        Ok(Self { path, grid, subdivision, line_width, pipeline, accumulation, target, sets, device: device.clone() })
+        Ok(Self {
+            method,
+            path,
+            grid,
+            subdivision,
+            line_width,
+            pipeline,
+            accumulation,
+            target,
+            sets,
+            device: device.clone(),
+        })
+    }
+
+    /// The marched method: one fullscreen draw that writes every texel of the target.
+    fn marched(
+        device: &Arc<Device>,
+        extent: vk::Extent2D,
+        grid: u32,
+        subdivision: u32,
+        line_width: f32,
+    ) -> Result<Self> {
+        require_accumulation_format(device, "R32G32B32A32_SFLOAT with blending and linear filtering (godray target)")?;
+        let sets = DescriptorSets::new(device, "godrays", BINDINGS, PHOTON_SETS as u32)?;
+        let target = ColorTarget::new(
+            device,
+            "godrays",
+            extent,
+            ACCUMULATION_FORMAT,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        )?;
+        let pipeline = shaders::graphics_pipeline(
+            device,
+            &GraphicsPipelineDesc {
+                specialization: &[(0, MARCH_STEPS)],
+                set_layouts: &[sets.layout],
+                ..GraphicsPipelineDesc::new(
+                    "godrays marched",
+                    "fullscreen.vert",
+                    "godrays_marched.frag",
+                    target.render_pass.raw,
+                )
+            },
+        )?;
+        Ok(Self {
+            method: GodrayMethod::Marched,
+            path: PhotonPath::GeometryShader,
+            grid,
+            subdivision,
+            line_width,
+            pipeline,
+            accumulation: None,
+            target,
+            sets,
+            device: device.clone(),
+        })
     }
 
     /// `set_index`: the frame in flight and the depth the photons are tested against
@@ -125,6 +195,13 @@ impl GodraysPass {
     pub fn record(&self, cmd: vk::CommandBuffer, set_index: usize) {
         let dev = &self.device;
         let set = Some(self.sets.sets[set_index]);
+        if self.method == GodrayMethod::Marched {
+            self.target.render_pass.begin(cmd);
+            self.pipeline.bind(cmd, set);
+            unsafe { dev.raw.cmd_draw(cmd, 3, 1, 0, 0) };
+            self.target.render_pass.end(cmd);
+            return;
+        }
         let photons = (self.grid as u64 * self.subdivision as u64).pow(2);
         if let Some(acc) = &self.accumulation {
             acc.record_clear(cmd);

@@ -7,7 +7,9 @@
 //! range (NaN and ±inf included, which TOML allows) are errors that name the file, the line,
 //! the field as a dotted path (`water.wavelength`, `objects[1].scale`) and the allowed range.
 
-use super::{Camera, CausticEstimator, Effects, Light, LightKind, Medium, Mesh, Scene, Water, WaterModel};
+use super::{
+    Camera, CausticEstimator, Effects, GodrayMethod, Light, LightKind, Medium, Mesh, Scene, Water, WaterModel,
+};
 use anyhow::{anyhow, bail, Context as _, Result};
 use glam::{Mat3, Vec2, Vec3};
 use serde::de::value::{MapDeserializer, SeqDeserializer};
@@ -182,6 +184,13 @@ pub(super) enum CausticEstimatorFile {
     Triangles,
 }
 
+#[derive(Serialize, Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+pub(super) enum GodrayMethodFile {
+    Beams,
+    Marched,
+}
+
 #[derive(Serialize, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 pub(super) struct EffectsFile {
@@ -194,6 +203,9 @@ pub(super) struct EffectsFile {
     pub caustic_grid: Option<u32>,
     pub caustic_subdivision: Option<u32>,
     pub photon_jitter: Option<bool>,
+    // Ahead of the godray grid and subdivision: they are the beams' photons, which the
+    // marched godrays do not use.
+    pub godray_method: Option<GodrayMethodFile>,
     pub godray_grid: Option<u32>,
     pub godray_subdivision: Option<u32>,
     pub caustic_target_scale: Option<f64>,
@@ -631,6 +643,14 @@ impl SceneFile {
         let water = self.water.validate(ctx)?;
         let medium = self.medium.map_or(Ok(Medium::default()), |m| m.validate(ctx))?;
         let effects = self.effects.map_or(Ok(Effects::default()), |e| e.validate(ctx))?;
+        // The ray march lights each step through the flat surface along one direction, which a
+        // point light does not have.
+        if effects.godray_method == GodrayMethod::Marched && light.kind == LightKind::Point {
+            return Err(ctx.error(
+                "effects.godray_method",
+                "= \"marched\" needs a directional light, and light.kind is \"point\": use godray_method = \"beams\" with a point light",
+            ));
+        }
         if self.objects.is_empty() {
             return Err(ctx.error("objects", "is empty: a scene needs at least one [[objects]] entry"));
         }
@@ -851,6 +871,11 @@ impl EffectsFile {
                 None => d.caustic_estimator,
                 Some(CausticEstimatorFile::Paper) => CausticEstimator::Paper,
                 Some(CausticEstimatorFile::Triangles) => CausticEstimator::Triangles,
+            },
+            godray_method: match self.godray_method {
+                None => d.godray_method,
+                Some(GodrayMethodFile::Beams) => GodrayMethod::Beams,
+                Some(GodrayMethodFile::Marched) => GodrayMethod::Marched,
             },
             godray_grid: int("godray_grid", self.godray_grid, d.godray_grid, 1, 4096)?,
             godray_subdivision: int(

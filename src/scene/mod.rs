@@ -141,6 +141,39 @@ impl CausticEstimator {
     }
 }
 
+/// How the godrays pass computes the light the water scatters towards the camera
+/// (`effects.godray_method`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum GodrayMethod {
+    /// The paper's: each photon of the godray grid a line from where it enters the water to
+    /// where it lands, its fragments adding the beam's in-scattered radiance. Focusing and
+    /// shadows come from the photons.
+    #[default]
+    Beams,
+    /// Each pixel of the godray target marches its view ray through the water and sums the
+    /// single scattering of the light that reaches each step: through flat water (no focusing),
+    /// shadowed by the light's position map (glsl/godrays/godrays_marched.frag). Directional
+    /// lights only.
+    Marched,
+}
+
+impl GodrayMethod {
+    pub const ALL: [GodrayMethod; 2] = [GodrayMethod::Beams, GodrayMethod::Marched];
+
+    /// The name scene files and command lines use.
+    pub fn name(self) -> &'static str {
+        match self {
+            GodrayMethod::Beams => "beams",
+            GodrayMethod::Marched => "marched",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|e| e.name() == name)
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Effects {
     pub caustics: bool,
@@ -151,7 +184,9 @@ pub struct Effects {
     pub caustic_subdivision: u32,
     /// Photons into irradiance: the paper's points or warped-cell triangles.
     pub caustic_estimator: CausticEstimator,
-    /// Godray grid (100) and subdivision (2).
+    /// Godrays from photon beams (the paper's) or ray-marched single scattering.
+    pub godray_method: GodrayMethod,
+    /// Godray grid (100) and subdivision (2): the beams' photons.
     pub godray_grid: u32,
     pub godray_subdivision: u32,
     /// Effect targets as a fraction of the output size per axis (the paper: 512/800, 128/800).
@@ -187,6 +222,7 @@ impl Default for Effects {
             caustic_grid: 200,
             caustic_subdivision: 2,
             caustic_estimator: CausticEstimator::Paper,
+            godray_method: GodrayMethod::Beams,
             godray_grid: 100,
             godray_subdivision: 2,
             caustic_target_scale: 0.64,
