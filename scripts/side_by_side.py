@@ -9,8 +9,9 @@ PNG. docs/accuracy.md's estimator pictures come from it:
     python3 scripts/side_by_side.py docs/x.png out/ref/tank/caustics.pfm out/gpu/tank/caustics.pfm \\
         -- out/ref/port/caustics.pfm out/gpu/port/caustics.pfm
 
-Arguments: the output PNG, then the PFM files of the first row, "--", those of the next, ...
-Every image is drawn at 1.5x (nearest), with a 4-pixel grey gutter.
+Arguments: [--scale S] the output PNG, then the PFM files of the first row, "--", those of
+the next, ... Every image is drawn at S times its size (nearest; 1.5 unless given), with a
+4-pixel grey gutter. docs/godray-methods.png is the godray buffers at --scale 4.5.
 """
 import struct
 import sys
@@ -49,6 +50,10 @@ def write_png(path, width, height, grey_rows):
 
 
 def main():
+    global SCALE
+    if len(sys.argv) > 2 and sys.argv[1] == "--scale":
+        SCALE = float(sys.argv[2])
+        del sys.argv[1:3]
     if len(sys.argv) < 3:
         sys.exit(__doc__)
     out, rest = sys.argv[1], sys.argv[2:]
