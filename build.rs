@@ -66,7 +66,13 @@ fn embed_spirv() {
     table.push_str("pub static EMBEDDED_SPIRV: &[(&str, &[u8])] = &[\n");
     for n in &names {
         println!("cargo:rerun-if-changed=spirv/{n}");
-        table.push_str(&format!("    ({n:?}, include_bytes!({:?})),\n", spirv.join(n).display().to_string()));
+        // The path is resolved when the crate compiles, not written out here: a target
+        // directory copied to another checkout (an A/B build of two commits) keeps this
+        // script's output while its spirv/ is unchanged, and an absolute path written here
+        // would embed the other checkout's shaders.
+        table.push_str(&format!(
+            "    ({n:?}, include_bytes!(concat!(env!(\"CARGO_MANIFEST_DIR\"), \"/spirv/{n}\"))),\n"
+        ));
     }
     table.push_str("];\n");
     let out = PathBuf::from(env::var("OUT_DIR").unwrap()).join("embedded_spirv.rs");
