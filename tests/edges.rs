@@ -71,18 +71,11 @@ fn composed(scene: &Scene) -> Vec<[f32; 3]> {
     output_radiance(&images.output, tonemap_exposure(scene))
 }
 
-/// Image column of a point at lateral offset z and distance x in front of the camera.
-fn column_of(z: f32, x: f32, scene: &Scene) -> f32 {
-    let tan_half = (scene.camera.fov_y_degrees.to_radians() / 2.0).tan();
-    let focal = HEIGHT as f32 / 2.0 / tan_half;
-    WIDTH as f32 / 2.0 + z / x * focal
-}
-
-/// Image row of a point at height y and distance x in front of the camera.
-fn row_of(y: f32, x: f32, scene: &Scene) -> f32 {
-    let tan_half = (scene.camera.fov_y_degrees.to_radians() / 2.0).tan();
-    let focal = HEIGHT as f32 / 2.0 / tan_half;
-    HEIGHT as f32 / 2.0 - (y - CAMERA_Y) / x * focal
+/// Image (column, row) of the point at distance x ahead of the camera, height y and lateral
+/// offset z (the camera looks along +x from height CAMERA_Y).
+fn project(x: f32, y: f32, z: f32, scene: &Scene) -> (f32, f32) {
+    let focal = HEIGHT as f32 / 2.0 / (scene.camera.fov_y_degrees.to_radians() / 2.0).tan();
+    (WIDTH as f32 / 2.0 + z / x * focal, HEIGHT as f32 / 2.0 - (y - CAMERA_Y) / x * focal)
 }
 
 /// Mean luminance (Rec. 709) of columns `columns` over rows `rows`.
@@ -107,11 +100,13 @@ fn a_pillar_silhouette_composes_as_at_full_resolution() {
     let (as_set, reference) = (composed(&scene), composed(&full));
     // Rows where the pillar stands before the wall: between the wall's top and the floor line
     // behind the pillar, a pixel clear of each.
-    let rows = row_of(-0.1, WALL_X, &scene).ceil() as i32 + 1..row_of(-2.0, WALL_X, &scene).floor() as i32 - 1;
+    let (_, wall_top) = project(WALL_X, -0.1, 0.0, &scene);
+    let (_, floor_line) = project(WALL_X, -2.0, 0.0, &scene);
+    let rows = wall_top.ceil() as i32 + 1..floor_line.floor() as i32 - 1;
     assert!(rows.len() > 20, "rows {rows:?}");
     let mut worst = 0.0f64;
     for (edge, z) in [("left", -PILLAR_HALF_WIDTH), ("right", PILLAR_HALF_WIDTH)] {
-        let c = column_of(z, PILLAR_X, &scene);
+        let (c, _) = project(PILLAR_X, 0.0, z, &scene);
         // The pixels next to the silhouette, skipping the one it crosses: BAND columns on the
         // pillar, BAND on the wall.
         let (first, last) = (c.floor() as i32, c.floor() as i32 + 1);

@@ -38,7 +38,7 @@ pub const MARCH_STEPS: u32 = 32;
 pub struct GodraysPass {
     pub method: GodrayMethod,
     /// The geometry shader, vertex-only or compute path (the splat floor is a caustics-only
-    /// measurement: godrays use the geometry shader there). The marched method has none.
+    /// measurement: godrays use the geometry shader there). The marched method ignores it.
     pub path: PhotonPath,
     pub grid: u32,
     pub subdivision: u32,
@@ -63,10 +63,9 @@ impl GodraysPass {
         path: PhotonPath,
     ) -> Result<Self> {
         let path = if path == PhotonPath::SplatFloor { PhotonPath::GeometryShader } else { path };
-        if method == GodrayMethod::Marched {
-            return Self::marched(device, extent, grid, subdivision, line_width);
-        }
-        if path == PhotonPath::Compute {
+        // The march draws no photons, so it has no photon path of its own.
+        let atomics = method == GodrayMethod::Beams && path == PhotonPath::Compute;
+        if atomics {
             require_float_atomics(device)?;
         }
         if subdivision == 0 || subdivision > GODRAY_MAX_SUBDIVISION {
@@ -79,7 +78,7 @@ impl GodraysPass {
         let line_width = line_width.clamp(lo.max(1.0), hi);
         require_accumulation_format(device, "R32G32B32A32_SFLOAT with blending and linear filtering (godray target)")?;
         let mut bindings = BINDINGS.to_vec();
-        if path == PhotonPath::Compute {
+        if atomics {
             bindings.push((b::PHOTON_ACCUMULATION, Binding::Storage));
         }
         let sets = DescriptorSets::new(device, "godrays", &bindings, PHOTON_SETS as u32)?;
@@ -102,15 +101,32 @@ impl GodraysPass {
             dynamic_line_width: true,
             ..GraphicsPipelineDesc::new("godrays", vertex, "godrays.frag", target.render_pass.raw)
         };
-        let (pipeline, accumulation) = match path {
-            PhotonPath::VertexOnly => (
+        let (pipeline, accumulation) = match (method, path) {
+            // One fullscreen draw that writes every texel of the target.
+            (GodrayMethod::Marched, _) => (
+                shaders::graphics_pipeline(
+                    device,
+                    &GraphicsPipelineDesc {
+                        specialization: &[(0, MARCH_STEPS)],
+                        set_layouts: &set_layouts,
+                        ..GraphicsPipelineDesc::new(
+                            "godrays marched",
+                            "fullscreen.vert",
+                            "godrays_marched.frag",
+                            target.render_pass.raw,
+                        )
+                    },
+                )?,
+                None,
+            ),
+            (_, PhotonPath::VertexOnly) => (
                 shaders::graphics_pipeline(
                     device,
                     &lines("godrays_vertex.vert", None, vk::PrimitiveTopology::LINE_LIST),
                 )?,
                 None,
             ),
-            PhotonPath::Compute => {
+            (_, PhotonPath::Compute) => {
                 let accumulation = AtomicAccumulation::new(device, "godrays", &target)?;
                 for frame in 0..PHOTON_SETS {
                     sets.write_at(frame, vec![(b::PHOTON_ACCUMULATION as usize, accumulation.resource())]);
@@ -140,50 +156,6 @@ impl GodraysPass {
             line_width,
             pipeline,
             accumulation,
-            target,
-            sets,
-            device: device.clone(),
-        })
-    }
-
-    /// The marched method: one fullscreen draw that writes every texel of the target.
-    fn marched(
-        device: &Arc<Device>,
-        extent: vk::Extent2D,
-        grid: u32,
-        subdivision: u32,
-        line_width: f32,
-    ) -> Result<Self> {
-        require_accumulation_format(device, "R32G32B32A32_SFLOAT with blending and linear filtering (godray target)")?;
-        let sets = DescriptorSets::new(device, "godrays", BINDINGS, PHOTON_SETS as u32)?;
-        let target = ColorTarget::new(
-            device,
-            "godrays",
-            extent,
-            ACCUMULATION_FORMAT,
-            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-        )?;
-        let pipeline = shaders::graphics_pipeline(
-            device,
-            &GraphicsPipelineDesc {
-                specialization: &[(0, MARCH_STEPS)],
-                set_layouts: &[sets.layout],
-                ..GraphicsPipelineDesc::new(
-                    "godrays marched",
-                    "fullscreen.vert",
-                    "godrays_marched.frag",
-                    target.render_pass.raw,
-                )
-            },
-        )?;
-        Ok(Self {
-            method: GodrayMethod::Marched,
-            path: PhotonPath::GeometryShader,
-            grid,
-            subdivision,
-            line_width,
-            pipeline,
-            accumulation: None,
             target,
             sets,
             device: device.clone(),
