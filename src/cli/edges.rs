@@ -23,6 +23,11 @@ pub(super) struct EdgesArgs {
     /// Animation time, seconds.
     #[arg(long, default_value_t = 1.0)]
     time: f32,
+    /// Scale the full-resolution frame's photon grids up by the targets' ratio per axis
+    /// (godrays ×1/godray_target_scale, caustics ×1/caustic_target_scale), so its effect
+    /// buffers are no noisier per pixel than the scene's.
+    #[arg(long)]
+    scale_grids: bool,
     /// Also write both composed images here (`<scene>_as_set.png`, `<scene>_full_res.png`).
     #[arg(long, value_name = "DIR")]
     out_dir: Option<PathBuf>,
@@ -33,6 +38,11 @@ pub(super) fn run(cli: &Cli, args: &EdgesArgs) -> Result<i32> {
     let mut full = scene.clone();
     full.effects.caustic_target_scale = 1.0;
     full.effects.godray_target_scale = 1.0;
+    if args.scale_grids {
+        let e = &scene.effects;
+        full.effects.godray_grid = (e.godray_grid as f32 / e.godray_target_scale).round() as u32;
+        full.effects.caustic_grid = (e.caustic_grid as f32 / e.caustic_target_scale).round() as u32;
+    }
     let extent =
         vk::Extent2D { width: args.width.unwrap_or(scene.output[0]), height: args.height.unwrap_or(scene.output[1]) };
     if let Some(dir) = &args.out_dir {
