@@ -5,7 +5,7 @@
 // lies on the very surface the depth buffer holds.
 #ifndef UNDERLIGHT_PHOTON_VISIBILITY_GLSL
 #define UNDERLIGHT_PHOTON_VISIBILITY_GLSL
-#include "scene_depth.glsl"
+#include "depth_aware.glsl"
 
 // Whether view depth `view_depth` (m along the camera axis) at pixel centre `pixel` of a
 // target `size` pixels large lies behind what the scene shows there.
@@ -36,18 +36,17 @@ bool off_scene(vec2 pixel, vec2 size, float inverse_depth, vec2 gradient, float 
 // only. Its other pixels may lie up to `reach_px` target pixels away, over which the surface
 // they show changes depth by up to the scene depth's gradient times that: on a floor seen at a
 // grazing angle, by several per cent. The tolerance widens by that much. The gradient is the
-// smaller one-sided difference of each pair, which follows the surface on a silhouette's
-// near side, so a wall beside a pillar stays held to its own depth.
+// pixel's surface plane (depth_aware.glsl), taken on the side of each pair that follows the
+// surface, so a wall beside a pillar stays held to its own depth. Compared in reciprocal depth,
+// where `tolerance` (relative and in metres, as in off_scene) becomes w·(tolerance + tolerance·w).
 bool square_off_scene(vec2 pixel, vec2 size, float view_depth, float reach_px, float tolerance) {
     vec2 depth_size = vec2(textureSize(scene_depth, 0));
     vec2 uv = (floor(pixel / size * depth_size) + 0.5) / depth_size;
-    vec2 step = 1.0 / depth_size;
-    float z = scene_view_depth(uv);
-    float dx = min(abs(z - scene_view_depth(uv - vec2(step.x, 0.0))), abs(scene_view_depth(uv + vec2(step.x, 0.0)) - z));
-    float dy = min(abs(z - scene_view_depth(uv - vec2(0.0, step.y))), abs(scene_view_depth(uv + vec2(0.0, step.y)) - z));
+    SurfacePlane plane = surface_plane(uv, depth_size);
+    float w = plane.inverse_depth;
     // Per target pixel: a target pixel spans depth_size / size depth-buffer pixels.
-    float change_per_px = length(vec2(dx, dy) * depth_size / size);
-    return abs(view_depth - z) > z * tolerance + tolerance + change_per_px * reach_px;
+    float change = length(plane.gradient * depth_size / size) * reach_px;
+    return abs(1.0 / view_depth - w) > w * (tolerance + tolerance * w) + change;
 }
 
 // Tolerances: a caustic splat sits on its receiver; a beam ends on it.
