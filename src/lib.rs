@@ -9,6 +9,7 @@
 //! - [`headless`], [`image_io`]: off-screen rendering and its files.
 //! - [`grid_splat`]: the foundation's demo, outside the method's passes.
 //! - [`mod@reference`], [`metrics`]: the CPU reference and the GPU frame's error against it.
+//! - [`bvh`]: exact ray casts against the scene's triangles (the reference, the photon density).
 //!
 //! # Rendering from Rust
 //!
@@ -40,6 +41,7 @@
 
 pub mod accuracy;
 pub mod bench;
+pub mod bvh;
 pub mod error;
 pub mod flux_budget;
 pub mod frame;

@@ -93,7 +93,9 @@ frame_uniforms! {
     /// `Frame::record` from the CPU twin.
     camera_water_gradient: [f32; 2],
     camera_water_height: f32,
-    unused: f32,
+    /// 1 when the caustic photons follow `photon_density_rows`/`columns` (`effects.
+    /// caustic_photon_density = "view"`), 0 for the paper's even grid.
+    photon_density_warped: f32,
     /// The part of the light's map window the photon grids cover, in its uv: the water's
     /// footprint (`frame::uniforms::photon_window`). Photons outside it could only miss the
     /// water.
@@ -110,8 +112,22 @@ frame_uniforms! {
     photon_jitter: [f32; 2],
     /// Pads the block to a whole 16 bytes.
     unused_tail: [f32; 2],
+    /// The caustic photon grid's warp (`frame::photon_density`): the inverse cumulative
+    /// density of the window's v, `PHOTON_DENSITY_KNOTS` knots at grid v = k / SEGMENTS.
+    photon_density_rows: [f32; PHOTON_DENSITY_KNOTS],
+    /// And of the window's u, one row of knots per band of the window's v
+    /// (`PHOTON_DENSITY_SEGMENTS` bands), row after row.
+    photon_density_columns: [f32; PHOTON_DENSITY_KNOTS * PHOTON_DENSITY_SEGMENTS],
 }
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 4 * 64 + 16 * 19);
+const _: () = assert!(
+    std::mem::size_of::<FrameUniforms>() == 4 * 64 + 16 * 19 + 4 * PHOTON_DENSITY_KNOTS * (PHOTON_DENSITY_SEGMENTS + 1)
+);
+
+/// Segments of the caustic photon grid's warp per axis (`frame::photon_density`); its knots
+/// are one more. GLSL: `PHOTON_DENSITY_KNOTS` and the arrays' sizes in frame.glsl (the layout
+/// test below checks them).
+pub const PHOTON_DENSITY_SEGMENTS: usize = 31;
+pub const PHOTON_DENSITY_KNOTS: usize = PHOTON_DENSITY_SEGMENTS + 1;
 
 /// Geometry-shader output bounds, defined here only: the shader compiler passes each to
 /// `glsl/` as a macro of the same name (`shaders::compile_all`). A shader's `max_vertices` is
@@ -214,9 +230,18 @@ mod abi_tests {
             let decl = code.strip_suffix(';').unwrap_or_else(|| panic!("not a member declaration: {code:?}"));
             let (ty, name) = decl.split_once(' ').unwrap_or_else(|| panic!("not a member declaration: {code:?}"));
             let (size, align) = std430(ty.trim());
+            // An array of scalars (`float a[16]`): std430 strides it by its element's size.
+            let (name, count) = match name.trim().split_once('[') {
+                Some((name, n)) => (name, n.trim_end_matches(']').parse::<usize>().expect("an array's length")),
+                None => (name.trim(), 1),
+            };
+            assert!(
+                count == 1 || ty.trim() == "float",
+                "{code:?}: only arrays of float are std430-strided by their size"
+            );
             offset = offset.div_ceil(align) * align;
-            members.push((name.trim().to_string(), offset));
-            offset += size;
+            members.push((name.to_string(), offset));
+            offset += size * count;
         }
         (members, offset.div_ceil(16) * 16)
     }
@@ -227,6 +252,9 @@ mod abi_tests {
         let rust: Vec<(String, usize)> = FRAME_UNIFORM_FIELDS.iter().map(|(n, o)| (n.to_string(), *o)).collect();
         assert_eq!(members, rust, "glsl/shared/frame.glsl's FrameUniforms and shader_abi::FrameUniforms differ");
         assert_eq!(size, std::mem::size_of::<FrameUniforms>());
+        let glsl = include_str!("../glsl/shared/frame.glsl");
+        let knots = format!("const int PHOTON_DENSITY_KNOTS = {PHOTON_DENSITY_KNOTS};");
+        assert!(glsl.contains(&knots), "frame.glsl must say {knots}");
     }
 
     #[test]
@@ -238,5 +266,9 @@ mod abi_tests {
             glsl_members("readonly buffer FrameUniforms {\n vec3 a;\n float b; // tail\n mat4 c;\n} frame;");
         assert_eq!(members, vec![("a".to_string(), 0), ("b".to_string(), 12), ("c".to_string(), 16)]);
         assert_eq!(size, 80);
+        let (members, size) =
+            glsl_members("readonly buffer FrameUniforms {\n float a;\n float b[3];\n vec2 c;\n} frame;");
+        assert_eq!(members, vec![("a".to_string(), 0), ("b".to_string(), 4), ("c".to_string(), 16)]);
+        assert_eq!(size, 32);
     }
 }

@@ -444,6 +444,36 @@ pub fn onto_receiver_plane(
     }
 }
 
+/// GLSL `photon_density_warp` (photon_cast.glsl): grid position `g` ∈ [0, 1]² of the caustic
+/// photon grid to the photon window's uv through the inverse cumulative densities of
+/// `frame::photon_density` (`rows`: the window's v at grid v = k / SEGMENTS; `columns`: per
+/// band of the window's v, the window's u at grid u = k / SEGMENTS, interpolated between the
+/// bands' centres so that the warped grid stays continuous), and the area of the photon's
+/// warped cell (`half_cell` each side of `g`) over the even grid's.
+pub fn photon_density_warp(rows: &[f32], columns: &[f32], g: Vec2, half_cell: f32) -> (Vec2, f32) {
+    use crate::shader_abi::{PHOTON_DENSITY_KNOTS as KNOTS, PHOTON_DENSITY_SEGMENTS as SEGMENTS};
+    let s = SEGMENTS as f32;
+    let lerp_v = |g: f32| {
+        let t = g.clamp(0.0, 1.0) * s;
+        let k = (t as usize).min(SEGMENTS - 1);
+        rows[k] + (rows[k + 1] - rows[k]) * (t - k as f32)
+    };
+    let lerp_u = |g: f32, v: f32| {
+        let band = (v * s - 0.5).clamp(0.0, s - 1.0);
+        let j = (band as usize).min(SEGMENTS - 2);
+        let t = g.clamp(0.0, 1.0) * s;
+        let k = (t as usize).min(SEGMENTS - 1);
+        let (a, b) = (j * KNOTS + k, (j + 1) * KNOTS + k);
+        let ua = columns[a] + (columns[a + 1] - columns[a]) * (t - k as f32);
+        let ub = columns[b] + (columns[b + 1] - columns[b]) * (t - k as f32);
+        ua + (ub - ua) * (band - j as f32)
+    };
+    let v = lerp_v(g.y);
+    let v_span = lerp_v(g.y + half_cell) - lerp_v(g.y - half_cell);
+    let u_span = lerp_u(g.x + half_cell, v) - lerp_u(g.x - half_cell, v);
+    (Vec2::new(lerp_u(g.x, v), v), u_span * v_span / (4.0 * half_cell * half_cell))
+}
+
 /// Everything `cast_photon` reads: the frame's uniforms, the noise, and the light's
 /// receiver maps as read back from the shadow pass: positions (RGBA32F, w = 1 where a
 /// receiver) and normals (xyz, zero where none).
@@ -515,7 +545,13 @@ impl PhotonCaster<'_> {
         let u = self.uniforms;
         let inv = glam::Mat4::from_cols_array_2d(&u.light_inv_view_proj);
         let (window_min, window_size) = (Vec2::from(u.photon_window_min), Vec2::from(u.photon_window_size));
-        let uv = window_min + (uv + Vec2::from(u.photon_jitter) / photons_per_axis) * window_size;
+        let mut uv = uv + Vec2::from(u.photon_jitter) / photons_per_axis;
+        let mut cell_scale = 1.0;
+        if u.photon_density_warped > 0.0 {
+            (uv, cell_scale) =
+                photon_density_warp(&u.photon_density_rows, &u.photon_density_columns, uv, 0.5 / photons_per_axis);
+        }
+        let uv = window_min + uv * window_size;
         let ndc = uv * 2.0 - 1.0;
         let a = inv * glam::Vec4::new(ndc.x, ndc.y, 0.0, 1.0);
         let b = inv * glam::Vec4::new(ndc.x, ndc.y, 1.0, 1.0);
@@ -605,7 +641,7 @@ impl PhotonCaster<'_> {
             return None;
         }
         let n2 = photons_per_axis * photons_per_axis / (window_size.x * window_size.y);
-        let mut flux = u.light_strength * 4.0 * u.light_half_extent[0] * u.light_half_extent[1] / n2;
+        let mut flux = u.light_strength * 4.0 * u.light_half_extent[0] * u.light_half_extent[1] / n2 * cell_scale;
         if point {
             let c = d.dot(Vec3::from_array(u.light_axis)).max(0.0);
             flux *= c * c * c;

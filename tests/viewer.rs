@@ -44,7 +44,7 @@ fn viewer_sessions_under_xvfb() {
     let script = format!(
         "frames:3,resize:320x200,frames:2,minimize,frames:2,restore,frames:2,toggle:caustics,frames:2,\
          toggle:caustics,toggle:godrays,water,amplitude:2,move:0.2/0/0.5,look:20/-10,frames:2,\
-         preset:high,frames:1,preset:default,toggle:godrays,screenshot:{},frames:1,estimator,frames:1",
+         preset:high,frames:1,preset:default,toggle:godrays,screenshot:{},frames:1,density,estimator,frames:1",
         shot.display()
     );
     // A sweep of the tank at its shipped setting: the timing line shows its measured error.
@@ -60,6 +60,8 @@ fn viewer_sessions_under_xvfb() {
         line_width: 1.0,
         filter: true,
         estimator: estimator.into(),
+        // As the tank ships its triangles (the paper's points keep the even grid).
+        photon_density: if estimator == "triangles" { "view" } else { "even" }.into(),
         godray_method: "beams".into(),
         effect_ms: 1.0,
         frame_ms: 1.0,
@@ -92,6 +94,8 @@ fn viewer_sessions_under_xvfb() {
     let shipped = underlight::scene::load("tank").unwrap().effects.caustic_estimator;
     let other = underlight::scene::CausticEstimator::ALL.into_iter().find(|e| *e != shipped).unwrap();
     assert!(stdout.contains(&format!("caustic estimator: {}", other.name())), "{stdout}");
+    // The density step switched the tank's photons from the view's density to the even grid.
+    assert!(stdout.contains("caustic photon density: even"), "{stdout}");
     // The timing line names every pass of the frame plus the blit to the window.
     for pass in ["shadow", "scene", "caustics", "godrays", "filter", "compose", "present"] {
         assert!(stdout.contains(&format!("{pass} ")), "no {pass} time in:\n{stdout}");

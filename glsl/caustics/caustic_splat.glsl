@@ -10,6 +10,15 @@ struct CausticSplat {
     vec4 irradiance;  // rgb: irradiance / E_surface per covered pixel; a = 1 per photon
 };
 
+// Whether the camera sees the side of the receiver (normal n, either orientation) that light
+// travelling along `light_dir` falls on. A photon on the top of a rail seen from below, or on
+// the far face of a thin panel, lights nothing the camera sees; the depth test cannot tell
+// at a silhouette, where that face lies within its tolerance of the face the pixel shows
+// (the storage's rails drew lines of light 4× too bright, where the reference has none).
+bool lit_side_faces_camera(vec3 hit, vec3 n, vec3 light_dir) {
+    return dot(n, -light_dir) * dot(n, frame.camera_position - hit) > 0.0;
+}
+
 // A square splat of `size` whole pixels centred on receiver point `hit`, spreading the
 // transmitted flux `flux` (W per channel, attenuation applied) over the receiver area its
 // pixels cover; false when it cannot touch the target. Shared by the paper's points and by
@@ -50,6 +59,11 @@ bool caustic_splat(Photon ph, out CausticSplat s) {
     // wherever it lands, so each photon deposits exactly its flux (a fractional size covers
     // floor² or ceil² pixels depending on its sub-pixel position).
     size = clamp(round(size), 1.0, floor(frame.device_max_point_size));
+    ivec2 texel;
+    if (light_texel(ph.hit, texel)) {
+        vec3 n = texelFetch(light_normal, texel, 0).xyz;
+        if (dot(n, n) > 0.25 && !lit_side_faces_camera(ph.hit, n, ph.direction)) { s.irradiance = vec4(0.0); return false; }
+    }
     return caustic_square(ph.hit, ph.flux * water_transmittance(ph.travelled), size, s);
 }
 #endif

@@ -64,7 +64,9 @@ vec3 hit[MAX_PHOTONS];
 vec3 flux[MAX_PHOTONS];      // transmitted and attenuated to the hit, W per channel; 0: dropped
 vec3 normal[MAX_PHOTONS];    // the receiver's, from the light's normal map
 vec4 clip[MAX_PHOTONS];
+float cell_scale[MAX_PHOTONS]; // its grid cell's area over the even grid's (photon_density_warp)
 bool landed[MAX_PHOTONS];
+bool seen[MAX_PHOTONS];      // landed on the side of its receiver the camera sees (lit_side_faces_camera)
 vec3 returned[MAX_PHOTONS];  // flux handed back by triangles that span a discontinuity
 vec3 around_flux[MAX_PHOTONS]; // sums over the drawn triangles around each photon
 float around_area[MAX_PHOTONS];
@@ -88,10 +90,12 @@ void emit_square(CausticSplat s, float footprint) {
     EndPrimitive();
 }
 
-// Whether photons a, b, c landed on one smooth receiver: normals within 25° of a's, and b
+// Whether photons a, b, c landed on one smooth receiver, on the side the camera sees: normals
+// within 25° of a's, and b
 // and c off a's tangent plane by under a quarter of their distance from a.
 bool one_receiver(int a, int b, int c) {
     if (!(landed[a] && landed[b] && landed[c])) return false;
+    if (!(seen[a] && seen[b] && seen[c])) return false;
     vec3 n = normal[a];
     if (dot(n, normal[b]) < 0.9 || dot(n, normal[c]) < 0.9) return false;
     vec3 ab = hit[b] - hit[a], ac = hit[c] - hit[a];
@@ -170,7 +174,8 @@ bool emit_thin_sliver(int a, int b, int c, vec3 per_pixel) {
 }
 
 // A photon's cell on its receiver in target pixels, from the light alone (a directional
-// light): the cell of a grid of photons_per_axis² over the photon window, widened under the
+// light): its cell of a grid of photons_per_axis² over the photon window (scaled by the
+// grid's warp there, effects.caustic_photon_density), widened under the
 // water as the refracted beam is (refracted_texel_stretch) and spread over the receiver as
 // the beam meets it, over the receiver area one pixel covers there. For a photon with no
 // drawn triangle around it (a post or an edge that only it reached), where the paper's
@@ -178,7 +183,7 @@ bool emit_thin_sliver(int a, int b, int c, vec3 per_pixel) {
 float cell_pixels(int k, float photons_per_axis) {
     float cell = 4.0 * frame.light_half_extent.x * frame.light_half_extent.y
                * frame.photon_window_size.x * frame.photon_window_size.y
-               / (photons_per_axis * photons_per_axis);
+               / (photons_per_axis * photons_per_axis) * cell_scale[k];
     vec3 beam = light_map_direction(hit[k]);
     float stretch = hit[k].y < frame.water_level ? frame.refracted_texel_stretch : 1.0;
     float on_receiver = cell * stretch / max(abs(dot(normal[k], beam)), 0.1);
@@ -243,11 +248,13 @@ void main() {
             Photon ph;
             landed[k] = cast_photon(uv, photons_per_axis, ph);
             hit[k] = ph.hit;
+            cell_scale[k] = ph.cell_scale;
             flux[k] = landed[k] ? ph.flux * water_transmittance(ph.travelled) : vec3(0.0);
             ivec2 texel;
             normal[k] = landed[k] && light_texel(ph.hit, texel)
                 ? normalize(texelFetch(light_normal, texel, 0).xyz + 1e-6) : vec3(0.0);
             clip[k] = frame.camera_view_proj * vec4(ph.hit, 1.0);
+            seen[k] = landed[k] && lit_side_faces_camera(ph.hit, normal[k], ph.direction);
             returned[k] = vec3(0.0);
             around_flux[k] = vec3(0.0);
             around_area[k] = 0.0;
@@ -273,7 +280,7 @@ void main() {
         }
     }
     for (int k = 0; k < side * side; ++k) {
-        if (!landed[k] || all(equal(returned[k], vec3(0.0)))) continue;
+        if (!seen[k] || all(equal(returned[k], vec3(0.0)))) continue;
         float size = regulated_point_size(length(hit[k] - frame.camera_position), frame.z_near, frame.z_far,
                                           frame.point_size_min, frame.point_size_max);
         // The photon's own footprint (its cell: two of the triangles around it) where that

@@ -17,7 +17,45 @@ struct Photon {
     vec3 hit;         // p_i: where it meets the scene
     float flux;       // W carried after the surface (Fresnel transmittance applied)
     float travelled;  // |p_i − p_s|, m
+    float cell_scale; // its grid cell's area over the even grid's (photon_density_warp; 1 unwarped)
 };
+
+// The caustic photon grid's warp (frame::photon_density; Rust twin
+// shader_math::photon_density_warp): grid position g ∈ [0, 1]² to the photon window's uv,
+// through the inverse cumulative densities in the frame's uniforms: the window's v from the
+// rows' knots, the window's u from the knots of the two bands of v around it, interpolated so
+// that neighbouring photons stay neighbours.
+float density_knot_lerp_v(float g) {
+    const int segments = PHOTON_DENSITY_KNOTS - 1;
+    float t = clamp(g, 0.0, 1.0) * float(segments);
+    int k = min(int(t), segments - 1);
+    return mix(frame.photon_density_rows[k], frame.photon_density_rows[k + 1], t - float(k));
+}
+
+float density_knot_lerp_u(float g, float v) {
+    const int segments = PHOTON_DENSITY_KNOTS - 1;
+    float band = clamp(v * float(segments) - 0.5, 0.0, float(segments - 1));
+    int j = min(int(band), segments - 2);
+    float t = clamp(g, 0.0, 1.0) * float(segments);
+    int k = min(int(t), segments - 1);
+    int a = j * PHOTON_DENSITY_KNOTS + k, b = a + PHOTON_DENSITY_KNOTS;
+    float ua = mix(frame.photon_density_columns[a], frame.photon_density_columns[a + 1], t - float(k));
+    float ub = mix(frame.photon_density_columns[b], frame.photon_density_columns[b + 1], t - float(k));
+    return mix(ua, ub, band - float(j));
+}
+
+// `half_cell`: half the grid's spacing. `cell_scale`: the area of the photon's warped cell (its
+// grid cell's corners through the warp, the v of its centre for the u) over the even grid's:
+// the flux it carries scales with it. Measured over the cell rather than as the warp's
+// derivative at its centre, so that a cell across a knot, where the slope changes, carries
+// the light the mesh's triangles there cover.
+vec2 photon_density_warp(vec2 g, float half_cell, out float cell_scale) {
+    float v = density_knot_lerp_v(g.y);
+    float v_span = density_knot_lerp_v(g.y + half_cell) - density_knot_lerp_v(g.y - half_cell);
+    float u_span = density_knot_lerp_u(g.x + half_cell, v) - density_knot_lerp_u(g.x - half_cell, v);
+    cell_scale = u_span * v_span / (4.0 * half_cell * half_cell);
+    return vec2(density_knot_lerp_u(g.x, v), v);
+}
 
 // Texel of the light maps under world point p; false when p projects outside the map or
 // behind the light.
@@ -92,10 +130,17 @@ int photon_fate = PHOTON_LANDED; // set by every cast_photon
 // dropped, never splatted.
 bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
     ph.surface = vec3(0.0); ph.direction = vec3(0.0); ph.hit = vec3(0.0); ph.flux = 0.0; ph.travelled = 0.0;
+    ph.cell_scale = 1.0;
     photon_fate = PHOTON_LANDED;
     // The grid covers the water's footprint in the light's window, not the whole window.
-    // Shifted by this frame's sub-cell offset (effects.photon_jitter; zero without it).
-    uv = frame.photon_window_min + (uv + frame.photon_jitter / photons_per_axis) * frame.photon_window_size;
+    // Shifted by this frame's sub-cell offset (effects.photon_jitter; zero without it), and for
+    // the caustics warped to follow the pixels that see the light (effects.
+    // caustic_photon_density; the godray beams cross the view and keep the even grid).
+    uv += frame.photon_jitter / photons_per_axis;
+#ifndef PHOTON_BEAMS
+    if (frame.photon_density_warped > 0.0) uv = photon_density_warp(uv, 0.5 / photons_per_axis, ph.cell_scale);
+#endif
+    uv = frame.photon_window_min + uv * frame.photon_window_size;
     vec2 ndc = uv * 2.0 - 1.0;
     vec4 a = frame.light_inv_view_proj * vec4(ndc, 0.0, 1.0);
     vec4 b = frame.light_inv_view_proj * vec4(ndc, 1.0, 1.0);
@@ -114,6 +159,7 @@ bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
         float c = max(dot(d, frame.light_axis), 0.0);
         flux = frame.light_strength * 4.0 * frame.light_half_extent.x * frame.light_half_extent.y / n2 * c * c * c;
     }
+    flux *= ph.cell_scale;
     ph.flux = flux;
 
     WaterParams w = frame_water();

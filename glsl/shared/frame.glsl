@@ -64,14 +64,22 @@ layout(set = 0, binding = BINDING_UNIFORMS, std430) readonly buffer FrameUniform
     float surface_views_ready;     // 1 if this frame recorded the refraction and reflection passes
     vec2 camera_water_gradient;    // the surface's gradient at the camera's xz (the CPU twin's, for the pixels' side, underwater_shading.glsl)
     float camera_water_height;     // the surface's height above the level there
-    float unused;
+    float photon_density_warped;   // 1: the caustic photons follow the density below (effects.caustic_photon_density = "view")
     vec2 photon_window_min;        // the photon grids' part of the light's map window (uv): the water's footprint
     vec2 photon_window_size;
     vec3 refracted_light_axis;     // a directional light's direction under flat water (0: a point light)
     float refracted_texel_stretch; // max(1, |r_y| / |d_y|): a map texel's beam under the water against above
     vec2 photon_jitter;            // this frame's photon-grid offset, in photon cells (effects.photon_jitter)
     vec2 unused_tail;
+    // The caustic photon grid's warp (frame::photon_density, photon_cast.glsl's
+    // photon_density_warp): inverse cumulative densities, PHOTON_DENSITY_KNOTS knots each. Rows:
+    // the window's v at grid v = k / (knots − 1). Columns: one row of knots per band of the
+    // window's v, the window's u at grid u = k / (knots − 1).
+    float photon_density_rows[32];
+    float photon_density_columns[992];
 } frame;
+
+const int PHOTON_DENSITY_KNOTS = 32;
 
 // Where the light's maps put world point p: p itself above the water; below it (directional
 // light), p slid back along the refracted light direction to the water level and on along the

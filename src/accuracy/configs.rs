@@ -3,7 +3,7 @@
 //! reference settings.
 
 use crate::reference::ReferenceSettings;
-use crate::scene::{CausticEstimator, GodrayMethod, LightKind, Scene};
+use crate::scene::{CausticEstimator, CausticPhotonDensity, GodrayMethod, LightKind, Scene};
 use anyhow::{bail, Result};
 use std::path::PathBuf;
 
@@ -18,6 +18,7 @@ pub struct SweepAxes {
     pub line_width: Vec<f32>,
     pub filter: Vec<bool>,
     pub estimator: Vec<CausticEstimator>,
+    pub photon_density: Vec<CausticPhotonDensity>,
     pub godray_method: Vec<GodrayMethod>,
 }
 
@@ -69,11 +70,15 @@ impl SweepAxes {
         let estimators = if self.estimator.is_empty() { vec![e.caustic_estimator] } else { self.estimator.clone() };
         let godray_methods =
             if self.godray_method.is_empty() { vec![e.godray_method] } else { self.godray_method.clone() };
-        // Filter, estimator and godray method, the last varying fastest.
-        let mut switches: Vec<(bool, CausticEstimator, GodrayMethod)> = Vec::new();
+        let densities =
+            if self.photon_density.is_empty() { vec![e.caustic_photon_density] } else { self.photon_density.clone() };
+        // Filter, estimator, photon density and godray method, the last varying fastest.
+        let mut switches: Vec<(bool, CausticEstimator, CausticPhotonDensity, GodrayMethod)> = Vec::new();
         for &filter in &filters {
             for &estimator in &estimators {
-                switches.extend(godray_methods.iter().map(|&method| (filter, estimator, method)));
+                for &density in &densities {
+                    switches.extend(godray_methods.iter().map(|&method| (filter, estimator, density, method)));
+                }
             }
         }
         let mut out = Vec::new();
@@ -83,7 +88,7 @@ impl SweepAxes {
                     for &scale in &orf(&self.target_scale, e.caustic_target_scale) {
                         for &size in &orf(&self.point_size, e.point_size_max) {
                             for &width in &orf(&self.line_width, e.line_width) {
-                                for &(filter, estimator, godray_method) in &switches {
+                                for &(filter, estimator, density, godray_method) in &switches {
                                     let mut s = base.clone();
                                     let fx = &mut s.effects;
                                     fx.caustic_grid = grid;
@@ -95,6 +100,7 @@ impl SweepAxes {
                                     fx.line_width = width;
                                     fx.filter = filter;
                                     fx.caustic_estimator = estimator;
+                                    fx.caustic_photon_density = density;
                                     fx.godray_method = godray_method;
                                     // The triangle estimator's subdivision bound (its
                                     // geometry shader's output limit) skips larger ones.

@@ -30,6 +30,9 @@ pub struct SweepRow {
     pub filter: bool,
     /// `CausticEstimator::name`.
     pub estimator: String,
+    /// `CausticPhotonDensity::name`. Sweeps written before it existed read as the even grid.
+    #[serde(default = "default_photon_density")]
+    pub photon_density: String,
     /// `GodrayMethod::name`. Sweeps written before the method existed read as the beams.
     #[serde(default = "default_godray_method")]
     pub godray_method: String,
@@ -47,6 +50,12 @@ pub struct SweepRow {
     pub caustic_change_reference: f64,
     /// On the Pareto front of caustic relative RMSE against effect_ms.
     pub pareto: bool,
+}
+
+/// The photon density of a row read without one: sweeps from before it was an axis spread
+/// their photons evenly.
+fn default_photon_density() -> String {
+    crate::scene::CausticPhotonDensity::Even.name().to_string()
 }
 
 /// The godray method of a row read without one: sweeps from before the method was an axis
@@ -69,10 +78,11 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
     for (k, scene) in scenes.iter().enumerate() {
         let e = &scene.effects;
         eprintln!(
-            "setting {}/{}: {} estimator, {} godrays, grid {}² × {}², {} iterations, target ×{}, points ≤ {} px, lines {} px, filter {}",
+            "setting {}/{}: {} estimator, {} photons, {} godrays, grid {}² × {}², {} iterations, target ×{}, points ≤ {} px, lines {} px, filter {}",
             k + 1,
             scenes.len(),
             e.caustic_estimator.name(),
+            e.caustic_photon_density.name(),
             e.godray_method.name(),
             e.caustic_grid,
             e.caustic_subdivision,
@@ -132,6 +142,7 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
             line_width: e.line_width,
             filter: e.filter,
             estimator: e.caustic_estimator.name().to_string(),
+            photon_density: e.caustic_photon_density.name().to_string(),
             godray_method: e.godray_method.name().to_string(),
             effect_ms,
             frame_ms,

@@ -55,8 +55,8 @@ pub fn pick(rows: &[SweepRow], goal: TuneGoal) -> Result<&SweepRow, TuneMiss> {
     }
 }
 
-/// The measured setting nearest to `effects` on `scene`: the same estimator and godray
-/// method, the nearest photon count (by ratio), then the same filter and iteration count.
+/// The measured setting nearest to `effects` on `scene`: the same estimator, photon density
+/// and godray method, the nearest photon count (by ratio), then the same filter and iteration count.
 /// None where the sweep measured no setting of that scene, estimator and godray method.
 pub fn nearest_setting<'a>(rows: &'a [SweepRow], scene: &str, effects: &crate::scene::Effects) -> Option<&'a SweepRow> {
     let photons = ((effects.caustic_grid * effects.caustic_subdivision) as f64).powi(2);
@@ -68,6 +68,7 @@ pub fn nearest_setting<'a>(rows: &'a [SweepRow], scene: &str, effects: &crate::s
         .filter(|r| {
             r.scene == scene
                 && r.estimator == effects.caustic_estimator.name()
+                && r.photon_density == effects.caustic_photon_density.name()
                 && r.godray_method == effects.godray_method.name()
         })
         .min_by(|a, b| distance(a).partial_cmp(&distance(b)).unwrap_or(std::cmp::Ordering::Equal))
@@ -76,8 +77,14 @@ pub fn nearest_setting<'a>(rows: &'a [SweepRow], scene: &str, effects: &crate::s
 /// The `[effects]` table of a scene file with the picked setting (what the sweep varied).
 pub fn effects_block(row: &SweepRow) -> String {
     format!(
-        "[effects]\ncaustic_estimator = \"{}\"\ncaustic_grid = {}\ncaustic_subdivision = {}\ngodray_method = \"{}\"\niterations = {}\nfilter = {}\n",
-        row.estimator, row.caustic_grid, row.caustic_subdivision, row.godray_method, row.iterations, row.filter
+        "[effects]\ncaustic_estimator = \"{}\"\ncaustic_grid = {}\ncaustic_subdivision = {}\ncaustic_photon_density = \"{}\"\ngodray_method = \"{}\"\niterations = {}\nfilter = {}\n",
+        row.estimator,
+        row.caustic_grid,
+        row.caustic_subdivision,
+        row.photon_density,
+        row.godray_method,
+        row.iterations,
+        row.filter
     )
 }
 
@@ -99,6 +106,7 @@ mod tests {
             line_width: 1.0,
             filter: true,
             estimator: "triangles".into(),
+            photon_density: "view".into(),
             godray_method: "beams".into(),
             effect_ms: ms,
             frame_ms: ms,
@@ -130,11 +138,15 @@ mod tests {
         assert_eq!(pick(&[], TuneGoal::MaxError(1.0)), Err(TuneMiss::NoRows));
         let mut effects = crate::scene::Effects {
             caustic_estimator: crate::scene::CausticEstimator::Triangles,
+            caustic_photon_density: crate::scene::CausticPhotonDensity::View,
             caustic_grid: 310,
             caustic_subdivision: 3,
             ..Default::default()
         };
         assert_eq!(nearest_setting(&rows, "tank", &effects).unwrap().caustic_grid, 300);
+        effects.caustic_photon_density = crate::scene::CausticPhotonDensity::Even;
+        assert!(nearest_setting(&rows, "tank", &effects).is_none(), "another photon density's rows");
+        effects.caustic_photon_density = crate::scene::CausticPhotonDensity::View;
         assert!(nearest_setting(&rows, "port", &effects).is_none(), "another scene's sweep");
         effects.caustic_estimator = crate::scene::CausticEstimator::Paper;
         assert!(nearest_setting(&rows, "tank", &effects).is_none(), "another estimator's rows");
@@ -144,5 +156,6 @@ mod tests {
         let block = effects_block(&rows[1]);
         assert!(block.starts_with("[effects]\n") && block.contains("caustic_grid = 300"), "{block}");
         assert!(block.contains("godray_method = \"beams\"\n"), "{block}");
+        assert!(block.contains("caustic_photon_density = \"view\"\n"), "{block}");
     }
 }

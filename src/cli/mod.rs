@@ -119,6 +119,15 @@ fn caustic_estimator(name: &str) -> std::result::Result<underlight::scene::Caust
     })
 }
 
+/// `--caustic-photon-density` / `sweep --photon-density` values.
+fn caustic_photon_density(name: &str) -> std::result::Result<underlight::scene::CausticPhotonDensity, String> {
+    use underlight::scene::CausticPhotonDensity;
+    CausticPhotonDensity::from_name(name).ok_or_else(|| {
+        let names: Vec<&str> = CausticPhotonDensity::ALL.iter().map(|d| d.name()).collect();
+        format!("no caustic photon density {name:?}; there are {}", names.join(", "))
+    })
+}
+
 /// `sweep --godray-method` values.
 fn godray_method(name: &str) -> std::result::Result<underlight::scene::GodrayMethod, String> {
     use underlight::scene::GodrayMethod;

@@ -1,7 +1,10 @@
 //! `underlight render`: a scene rendered headless to a PNG (and HDR dumps), with per-pass GPU
 //! times and, on request, the photons' flux budget.
 
-use super::{caustic_estimator, context_desc, effect_png_exposure, finish, output_side, prepare_outputs, Cli};
+use super::{
+    caustic_estimator, caustic_photon_density, context_desc, effect_png_exposure, finish, output_side, prepare_outputs,
+    Cli,
+};
 use anyhow::{bail, Context as _, Result};
 use std::path::PathBuf;
 use underlight::headless;
@@ -52,6 +55,10 @@ pub(super) struct SceneArgs {
     /// (distance-sized points) or triangles (warped-cell triangles).
     #[arg(long, value_name = "NAME", value_parser = caustic_estimator)]
     caustic_estimator: Option<underlight::scene::CausticEstimator>,
+    /// Spread the caustic photons this way instead of the scene's: even (the paper's grid) or
+    /// view (as many per receiver area as the pixels that see it).
+    #[arg(long, value_name = "NAME", value_parser = caustic_photon_density)]
+    caustic_photon_density: Option<underlight::scene::CausticPhotonDensity>,
 }
 
 /// `--hdr-format`.
@@ -79,6 +86,9 @@ pub(super) fn run(cli: &Cli, args: &SceneArgs) -> Result<i32> {
     }
     if let Some(estimator) = args.caustic_estimator {
         scene.effects.caustic_estimator = estimator;
+    }
+    if let Some(density) = args.caustic_photon_density {
+        scene.effects.caustic_photon_density = density;
     }
     if scene.camera.position.distance(scene.camera.look_at) < 1e-6 {
         bail!("--camera and --look-at give the same point: the camera needs a direction to look in");

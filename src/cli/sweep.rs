@@ -2,7 +2,7 @@
 //! reference.
 
 use super::reference::ReferenceOptions;
-use super::{caustic_estimator, context_desc, finish, godray_method, output_side, Cli, OnOff};
+use super::{caustic_estimator, caustic_photon_density, context_desc, finish, godray_method, output_side, Cli, OnOff};
 use anyhow::{bail, Context as _, Result};
 use std::path::PathBuf;
 use underlight::vk::Context;
@@ -41,6 +41,9 @@ pub(super) struct SweepArgs {
     /// Caustic estimators: paper, triangles (comma-separated).
     #[arg(long, value_delimiter = ',', value_parser = caustic_estimator)]
     estimator: Vec<underlight::scene::CausticEstimator>,
+    /// Caustic photon densities: even, view (comma-separated).
+    #[arg(long, value_delimiter = ',', value_parser = caustic_photon_density)]
+    photon_density: Vec<underlight::scene::CausticPhotonDensity>,
     /// Godray methods: beams, marched (comma-separated; marched needs a directional light).
     #[arg(long, value_delimiter = ',', value_parser = godray_method)]
     godray_method: Vec<underlight::scene::GodrayMethod>,
@@ -77,6 +80,7 @@ pub(super) fn run(cli: &Cli, args: &SweepArgs) -> Result<i32> {
         line_width: args.line_width.clone(),
         filter,
         estimator: args.estimator.clone(),
+        photon_density: args.photon_density.clone(),
         godray_method: args.godray_method.clone(),
     };
     axes.validate()?;

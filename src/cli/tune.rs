@@ -7,7 +7,7 @@ use super::{context_desc, finish, output_side, Cli};
 use anyhow::{bail, Context as _, Result};
 use std::path::PathBuf;
 use underlight::accuracy::{self, SweepAxes, TuneGoal};
-use underlight::scene::CausticEstimator;
+use underlight::scene::{CausticEstimator, CausticPhotonDensity};
 use underlight::vk::Context;
 
 #[derive(clap::Args)]
@@ -53,8 +53,9 @@ pub(super) fn run(cli: &Cli, args: &TuneArgs) -> Result<i32> {
         (None, None) => bail!("give --max-error E or --budget-ms T"),
     };
     let scene = underlight::scene::load(&args.scene)?;
-    // The candidates: the triangle estimator over photon meshes from coarse to fine, and the
-    // paper's filtered points, each at its own best subdivision (docs/accuracy.md).
+    // The candidates: the triangle estimator over photon meshes from coarse to fine, their
+    // photons spread as the view needs them, and the paper's filtered points on its even
+    // grid, each at its own best subdivision (docs/accuracy.md).
     let (triangle_grids, paper_grids, frames, warmup) =
         if args.quick { (vec![48, 100], vec![100], 2, 1) } else { (vec![48, 100, 150, 200], vec![100, 200], 5, 2) };
     let candidates = [
@@ -63,6 +64,7 @@ pub(super) fn run(cli: &Cli, args: &TuneArgs) -> Result<i32> {
             subdivision: vec![3],
             filter: vec![true],
             estimator: vec![CausticEstimator::Triangles],
+            photon_density: vec![CausticPhotonDensity::View],
             ..Default::default()
         },
         SweepAxes {
@@ -70,6 +72,7 @@ pub(super) fn run(cli: &Cli, args: &TuneArgs) -> Result<i32> {
             subdivision: vec![2],
             filter: vec![true],
             estimator: vec![CausticEstimator::Paper],
+            photon_density: vec![CausticPhotonDensity::Even],
             ..Default::default()
         },
     ];
@@ -151,6 +154,7 @@ fn write_scene(scene: &str, row: &underlight::accuracy::SweepRow, path: &std::pa
     effects["caustic_estimator"] = toml_edit::value(row.estimator.clone());
     effects["caustic_grid"] = toml_edit::value(i64::from(row.caustic_grid));
     effects["caustic_subdivision"] = toml_edit::value(i64::from(row.caustic_subdivision));
+    effects["caustic_photon_density"] = toml_edit::value(row.photon_density.clone());
     effects["godray_method"] = toml_edit::value(row.godray_method.clone());
     effects["iterations"] = toml_edit::value(i64::from(row.iterations));
     effects["filter"] = toml_edit::value(row.filter);

@@ -6,6 +6,7 @@
 //! those passes and targets, and `Frame::record` is one loop over the schedule, each pass
 //! through the timing wrapper.
 
+pub mod photon_density;
 pub mod uniforms;
 
 pub use crate::shader_abi::bindings;
@@ -344,6 +345,10 @@ pub const GODRAY_FILTER_RADIUS_PX: f32 = 1.5;
 pub const CAUSTIC_SAME_SURFACE: f32 = 0.05;
 pub const GODRAY_SAME_SURFACE: f32 = 0.25;
 
+/// What a photon-density survey depends on: the camera's and the light's matrices and the
+/// photon window.
+type PhotonDensityKey = ([[f32; 4]; 4], [[f32; 4]; 4], [f32; 2], [f32; 2]);
+
 pub struct Frame {
     pub plan: FramePlan,
     pub extents: FrameExtents,
@@ -370,6 +375,12 @@ pub struct Frame {
     _noise: Image,
     /// The noise's CPU twin: the surface's height at the camera each frame.
     noise_twin: NoiseTexture,
+    /// The scene's triangles, for the survey of what the camera sees when the caustic photons
+    /// follow the view (`effects.caustic_photon_density = "view"`); None otherwise.
+    photon_survey: Option<crate::bvh::Bvh>,
+    /// The last warp surveyed and the frame it was surveyed for (camera, light, window): it is
+    /// surveyed again only when they change.
+    photon_density: Option<(PhotonDensityKey, Option<photon_density::PhotonDensity>)>,
     _nearest: Sampler,
     _linear: Sampler,
 }
@@ -597,6 +608,8 @@ impl Frame {
                 }
             }
         }
+        let follows_view = scene.effects.caustic_photon_density == crate::scene::CausticPhotonDensity::View;
+        let photon_survey = (caustics.is_some() && follows_view).then(|| crate::bvh::Bvh::of_scene(scene));
         Ok(Self {
             plan,
             extents,
@@ -616,6 +629,8 @@ impl Frame {
             meshes,
             _noise: noise,
             noise_twin: noise_data,
+            photon_survey,
+            photon_density: None,
             _nearest: nearest,
             _linear: linear,
         })
@@ -642,6 +657,15 @@ impl Frame {
         let hg =
             crate::shader_math::water_height_grad(&self.scene.water, &self.noise_twin, glam::Vec2::new(c.x, c.z), time);
         (u.camera_water_height, u.camera_water_gradient) = (hg.x, [hg.y, hg.z]);
+        if let Some(bvh) = &self.photon_survey {
+            let key = (u.camera_view_proj, u.light_view_proj, u.photon_window_min, u.photon_window_size);
+            if self.photon_density.as_ref().map(|(k, _)| *k) != Some(key) {
+                self.photon_density = Some((key, photon_density::view_adapted(&self.scene, bvh, &u)));
+            }
+            if let Some((_, Some(density))) = &self.photon_density {
+                density.apply(&mut u);
+            }
+        }
         if let Some(bytes) = self.uniforms[slot.index].mapped_mut() {
             bytes.copy_from_slice(bytemuck::bytes_of(&u));
         }

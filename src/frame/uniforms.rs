@@ -207,7 +207,7 @@ pub fn light_frame(scene: &Scene, bounds: (Vec3, Vec3), aspect: f32) -> LightFra
 /// water). The light's window must cover these as well as the visible receivers: at a low
 /// sun a visible floor point's texel lies far up-sun along the straight light ray (11 m at a
 /// 10° sun over a 2 m floor), while the photons that reach it enter the water only 2 m away.
-fn photon_entry(scene: &Scene, p: Vec3) -> Vec3 {
+pub(super) fn photon_entry(scene: &Scene, p: Vec3) -> Vec3 {
     let level = scene.water.level;
     if p.y >= level {
         return p;
@@ -375,13 +375,16 @@ impl FrameUniforms {
             // Flat until the frame fills it in (it holds the noise's CPU twin).
             camera_water_gradient: [0.0; 2],
             camera_water_height: 0.0,
-            unused: 0.0,
+            // The paper's even grid until the frame sets a view-adapted warp (Frame::record).
+            photon_density_warped: 0.0,
             photon_window_min: photon_window.0.to_array(),
             photon_window_size: photon_window.1.to_array(),
             refracted_light_axis: refracted.to_array(),
             refracted_texel_stretch: refracted_texel_stretch(light.axis, refracted),
             photon_jitter: if e.photon_jitter { photon_jitter(time) } else { [0.0; 2] },
             unused_tail: [0.0; 2],
+            photon_density_rows: super::photon_density::PhotonDensity::EVEN.rows,
+            photon_density_columns: super::photon_density::PhotonDensity::EVEN.columns_flat(),
         }
     }
 }

@@ -19,13 +19,13 @@
 //! crosses the surface inside the water's extent (no refraction of the view), at its first
 //! triangle, or at the far plane.
 
-mod bvh;
 mod camera;
 mod caustics;
 mod godrays;
 mod light;
 mod water;
 
+use crate::bvh::Bvh;
 use crate::error::{Error, Result};
 use crate::frame::uniforms::FrameExtents;
 use crate::frame::FramePlan;
@@ -33,7 +33,6 @@ use crate::image_io::HdrImage;
 use crate::passes::PassId;
 use crate::scene::Scene;
 use crate::shader_math::NoiseTexture;
-use bvh::Bvh;
 use camera::PixelCamera;
 use glam::DVec3;
 use light::LightSampler;
@@ -154,9 +153,7 @@ struct Context<'a> {
 impl<'a> Context<'a> {
     fn new(scene: &'a Scene, noise: &'a NoiseTexture, time: f32, extents: &FrameExtents) -> Result<Self> {
         let surface = Surface::new(&scene.water, noise, time);
-        let bvh = Bvh::build(scene.meshes.iter().flat_map(|m| {
-            m.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]].map(|i| m.positions[i as usize].as_dvec3()))
-        }));
+        let bvh = Bvh::of_scene(scene);
         let sampler = LightSampler::new(scene, surface.level, surface.bound)?;
         let camera = PixelCamera::new(scene, extents, time);
         let (lo, hi) = scene.bounds();

@@ -8,7 +8,8 @@
 //! the field as a dotted path (`water.wavelength`, `objects[1].scale`) and the allowed range.
 
 use super::{
-    Camera, CausticEstimator, Effects, GodrayMethod, Light, LightKind, Medium, Mesh, Scene, Water, WaterModel,
+    Camera, CausticEstimator, CausticPhotonDensity, Effects, GodrayMethod, Light, LightKind, Medium, Mesh, Scene,
+    Water, WaterModel,
 };
 use anyhow::{anyhow, bail, Context as _, Result};
 use glam::{Mat3, Vec2, Vec3};
@@ -186,6 +187,13 @@ pub(super) enum CausticEstimatorFile {
 
 #[derive(Serialize, Deserialize, Clone, Copy)]
 #[serde(rename_all = "kebab-case")]
+pub(super) enum CausticPhotonDensityFile {
+    Even,
+    View,
+}
+
+#[derive(Serialize, Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
 pub(super) enum GodrayMethodFile {
     Beams,
     Marched,
@@ -202,6 +210,7 @@ pub(super) struct EffectsFile {
     pub caustic_estimator: Option<CausticEstimatorFile>,
     pub caustic_grid: Option<u32>,
     pub caustic_subdivision: Option<u32>,
+    pub caustic_photon_density: Option<CausticPhotonDensityFile>,
     pub photon_jitter: Option<bool>,
     // Ahead of the godray grid and subdivision: they are the beams' photons, which the
     // marched godrays do not use.
@@ -871,6 +880,11 @@ impl EffectsFile {
                 None => d.caustic_estimator,
                 Some(CausticEstimatorFile::Paper) => CausticEstimator::Paper,
                 Some(CausticEstimatorFile::Triangles) => CausticEstimator::Triangles,
+            },
+            caustic_photon_density: match self.caustic_photon_density {
+                None => d.caustic_photon_density,
+                Some(CausticPhotonDensityFile::Even) => CausticPhotonDensity::Even,
+                Some(CausticPhotonDensityFile::View) => CausticPhotonDensity::View,
             },
             godray_method: match self.godray_method {
                 None => d.godray_method,

@@ -174,6 +174,36 @@ impl GodrayMethod {
     }
 }
 
+/// How the caustic photons are spread over the water's footprint
+/// (`effects.caustic_photon_density`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum CausticPhotonDensity {
+    /// The paper's: an even grid over the water's footprint seen from the light.
+    #[default]
+    Even,
+    /// The grid warped so that each part of the footprint gets photons in proportion to the
+    /// pixels that see the light entering there (`frame::photon_density`): the near floor
+    /// gets more, water out of view few.
+    View,
+}
+
+impl CausticPhotonDensity {
+    pub const ALL: [CausticPhotonDensity; 2] = [CausticPhotonDensity::Even, CausticPhotonDensity::View];
+
+    /// The name scene files and command lines use.
+    pub fn name(self) -> &'static str {
+        match self {
+            CausticPhotonDensity::Even => "even",
+            CausticPhotonDensity::View => "view",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|e| e.name() == name)
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Effects {
     pub caustics: bool,
@@ -184,6 +214,8 @@ pub struct Effects {
     pub caustic_subdivision: u32,
     /// Photons into irradiance: the paper's points or warped-cell triangles.
     pub caustic_estimator: CausticEstimator,
+    /// The caustic photons on an even grid (the paper's) or spread as the view needs them.
+    pub caustic_photon_density: CausticPhotonDensity,
     /// Godrays from photon beams (the paper's) or ray-marched single scattering.
     pub godray_method: GodrayMethod,
     /// Godray grid (100) and subdivision (2): the beams' photons.
@@ -222,6 +254,7 @@ impl Default for Effects {
             caustic_grid: 200,
             caustic_subdivision: 2,
             caustic_estimator: CausticEstimator::Paper,
+            caustic_photon_density: CausticPhotonDensity::Even,
             godray_method: GodrayMethod::Beams,
             godray_grid: 100,
             godray_subdivision: 2,

@@ -13,7 +13,7 @@ use winit::keyboard::KeyCode;
 /// Printed when the window opens.
 pub(super) const KEYS_HELP: &str =
     "keys: WASD/QE move (Shift faster), right-drag or arrows look, 1/2/3 caustics/godrays/filter, \
-     4 caustic estimator, \
+     4 caustic estimator, 5 caustic photon density, \
      M water model, +/- amplitude, P pause, N step, H/L high/default preset, R reset camera, \
      I settings, F12 screenshot, Esc quit";
 
@@ -93,6 +93,7 @@ impl Live {
             KeyCode::Digit2 => self.toggle(Effect::Godrays)?,
             KeyCode::Digit3 => self.toggle(Effect::Filter)?,
             KeyCode::Digit4 => self.next_estimator()?,
+            KeyCode::Digit5 => self.next_photon_density()?,
             KeyCode::KeyM => self.next_water(),
             KeyCode::Equal | KeyCode::NumpadAdd => self.scale_amplitude(1.25),
             KeyCode::Minus | KeyCode::NumpadSubtract => self.scale_amplitude(0.8),
@@ -140,6 +141,19 @@ impl Live {
         self.gpu.rebuild_current(&self.view.scene)
     }
 
+    /// The caustic photons on the even grid or spread as the view needs them (rebuilt: the
+    /// frame surveys the scene's triangles only for the second).
+    pub(super) fn next_photon_density(&mut self) -> Result<()> {
+        use crate::scene::CausticPhotonDensity;
+        let e = &mut self.view.scene.effects;
+        e.caustic_photon_density = match e.caustic_photon_density {
+            CausticPhotonDensity::Even => CausticPhotonDensity::View,
+            CausticPhotonDensity::View => CausticPhotonDensity::Even,
+        };
+        println!("caustic photon density: {}", e.caustic_photon_density.name());
+        self.gpu.rebuild_current(&self.view.scene)
+    }
+
     pub(super) fn preset(&mut self, preset: Preset) -> Result<()> {
         let e = &mut self.view.scene.effects;
         match preset {
@@ -157,6 +171,7 @@ impl Live {
                 e.caustic_grid = d.caustic_grid;
                 e.caustic_subdivision = d.caustic_subdivision;
                 e.caustic_estimator = d.caustic_estimator;
+                e.caustic_photon_density = d.caustic_photon_density;
                 e.godray_grid = d.godray_grid;
                 e.godray_subdivision = d.godray_subdivision;
                 e.point_size_min = d.point_size_min;
@@ -190,7 +205,7 @@ impl View {
         let s = &self.scene;
         let e = &s.effects;
         println!(
-            "scene {:?}: camera {:.2} yaw {:.1}° pitch {:.1}°; water {:?} amplitude {} m; caustics {} ({}²×{}², {}), \
+            "scene {:?}: camera {:.2} yaw {:.1}° pitch {:.1}°; water {:?} amplitude {} m; caustics {} ({}²×{}², {}, {} photons), \
              godrays {} ({}²×{}²), filter {}; points {}–{} px; time {:.2} s{}",
             s.name,
             self.camera.position,
@@ -202,6 +217,7 @@ impl View {
             e.caustic_grid,
             e.caustic_subdivision,
             e.caustic_estimator.name(),
+            e.caustic_photon_density.name(),
             e.godrays,
             e.godray_grid,
             e.godray_subdivision,

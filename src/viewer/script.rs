@@ -22,6 +22,8 @@ pub enum Step {
     Toggle(Effect),
     /// Switch to the next caustic estimator (the paper's points, triangles).
     NextEstimator,
+    /// Switch the caustic photons between the even grid and the view's density.
+    NextPhotonDensity,
     /// Switch to the other water model.
     NextWater,
     /// Scale the wave amplitude by this factor.
@@ -79,6 +81,7 @@ pub fn parse(text: &str) -> Result<Vec<Step>> {
             }),
             "water" => Step::NextWater,
             "estimator" => Step::NextEstimator,
+            "density" => Step::NextPhotonDensity,
             "amplitude" => Step::Amplitude(floats(1)?[0]),
             "move" => {
                 let v = floats(3)?;
@@ -95,7 +98,7 @@ pub fn parse(text: &str) -> Result<Vec<Step>> {
             }),
             "screenshot" if !arg.is_empty() => Step::Screenshot(arg.to_string()),
             _ => bail!(
-                "{}: unknown step; steps are frames:N, resize:WxH, minimize, restore, toggle:EFFECT, estimator, water, \
+                "{}: unknown step; steps are frames:N, resize:WxH, minimize, restore, toggle:EFFECT, estimator, density, water, \
                  amplitude:F, move:R/U/F, look:YAW/PITCH, preset:default|high, screenshot:PATH",
                 bad()
             ),
@@ -154,6 +157,7 @@ impl Live {
                 }
                 Step::Toggle(effect) => self.toggle(effect)?,
                 Step::NextEstimator => self.next_estimator()?,
+                Step::NextPhotonDensity => self.next_photon_density()?,
                 Step::NextWater => self.next_water(),
                 Step::Amplitude(f) => self.scale_amplitude(f),
                 Step::Move(r, u, f) => self.view.camera.translate(r, u, f),

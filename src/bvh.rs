@@ -1,5 +1,6 @@
-//! A bounding-volume hierarchy over the scene's triangles, in f64, for the reference
-//! renderer's exact ray casts (photon paths, shadow rays, camera rays).
+//! A bounding-volume hierarchy over the scene's triangles, in f64: the reference renderer's
+//! exact ray casts (photon paths, shadow rays, camera rays), and the frame's survey of what
+//! the camera sees (`frame::photon_density`). A leaf: it knows triangles, not the method.
 //!
 //! Built top-down with a binned surface-area heuristic: at each node the triangles'
 //! centroids are binned along the widest centroid axis and the split that minimises
@@ -142,6 +143,13 @@ impl Bvh {
             build_node(&mut nodes, 0, &mut items, 0, n, 0);
         }
         Bvh { nodes, triangles: items.into_iter().map(|i| i.triangle).collect() }
+    }
+
+    /// Over every triangle of the scene's meshes.
+    pub fn of_scene(scene: &crate::scene::Scene) -> Bvh {
+        Bvh::build(scene.meshes.iter().flat_map(|m| {
+            m.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]].map(|i| m.positions[i as usize].as_dvec3()))
+        }))
     }
 
     /// The nearest hit in (t_min, t_max) along unit direction `d`.
