@@ -110,17 +110,24 @@ frame_uniforms! {
     /// This frame's offset of the photon grids, in photon cells (`effects.photon_jitter`;
     /// zero without it): `cast_photon` shifts every photon by it.
     photon_jitter: [f32; 2],
+    /// 1 when the godray beams follow `godray_density_rows`/`columns` (`effects.
+    /// godray_photon_density = "view"`), 0 for the paper's even grid.
+    godray_density_warped: f32,
     /// Pads the block to a whole 16 bytes.
-    unused_tail: [f32; 2],
+    unused_tail: f32,
     /// The caustic photon grid's warp (`frame::photon_density`): the inverse cumulative
     /// density of the window's v, `PHOTON_DENSITY_KNOTS` knots at grid v = k / SEGMENTS.
     photon_density_rows: [f32; PHOTON_DENSITY_KNOTS],
     /// And of the window's u, one row of knots per band of the window's v
     /// (`PHOTON_DENSITY_SEGMENTS` bands), row after row.
     photon_density_columns: [f32; PHOTON_DENSITY_KNOTS * PHOTON_DENSITY_SEGMENTS],
+    /// The godray grid's warp, alike (`frame::photon_density`, for the beams).
+    godray_density_rows: [f32; PHOTON_DENSITY_KNOTS],
+    godray_density_columns: [f32; PHOTON_DENSITY_KNOTS * PHOTON_DENSITY_SEGMENTS],
 }
 const _: () = assert!(
-    std::mem::size_of::<FrameUniforms>() == 4 * 64 + 16 * 19 + 4 * PHOTON_DENSITY_KNOTS * (PHOTON_DENSITY_SEGMENTS + 1)
+    std::mem::size_of::<FrameUniforms>()
+        == 4 * 64 + 16 * 19 + 2 * 4 * PHOTON_DENSITY_KNOTS * (PHOTON_DENSITY_SEGMENTS + 1)
 );
 
 /// Segments of the caustic photon grid's warp per axis (`frame::photon_density`); its knots

@@ -92,7 +92,7 @@ fn error_falls_as_the_photon_grid_grows() {
             s.output = OUTPUT;
             s.effects.caustic_estimator = underlight::scene::CausticEstimator::Paper;
             // The paper's even grid, whose photon noise the figures above measure.
-            s.effects.caustic_photon_density = underlight::scene::CausticPhotonDensity::Even;
+            s.effects.caustic_photon_density = underlight::scene::PhotonSpread::Even;
             s.effects.caustic_subdivision = 2;
             s.effects.caustic_grid = grid;
             s.effects.point_size_min = 1.0;
@@ -121,7 +121,7 @@ fn triangle_error_falls_as_the_mesh_refines() {
             s.effects.caustic_estimator = underlight::scene::CausticEstimator::Triangles;
             // The even grid the figures below were measured on (the view's density is the
             // next test's).
-            s.effects.caustic_photon_density = underlight::scene::CausticPhotonDensity::Even;
+            s.effects.caustic_photon_density = underlight::scene::PhotonSpread::Even;
             s.effects.caustic_subdivision = 3;
             s.effects.caustic_grid = grid;
             (format!("tank {}×{}, triangles, grid {grid}² × 3²", OUTPUT[0], OUTPUT[1]), s)
@@ -148,8 +148,8 @@ fn photons_spread_for_the_view_lower_the_error_and_keep_the_flux() {
     // 0.678 even, 0.457 spread; flux −1.5 %, −0.7 %. A survey that missed the view, or a warp
     // the shader ignored, leaves the error where it was; photons whose flux did not follow
     // their warped cells put several times the light where the camera looks.
-    use underlight::scene::CausticPhotonDensity;
-    let variants: Vec<(String, Scene)> = [CausticPhotonDensity::Even, CausticPhotonDensity::View]
+    use underlight::scene::PhotonSpread;
+    let variants: Vec<(String, Scene)> = [PhotonSpread::Even, PhotonSpread::View]
         .iter()
         .map(|&density| {
             let mut s = tank();

@@ -317,16 +317,16 @@ fn plan_skips_what_the_scene_does_not_need() {
 
 #[test]
 fn geometry_shader_photons_agree_with_the_cpu_twin() {
-    use underlight::scene::CausticPhotonDensity;
+    use underlight::scene::PhotonSpread;
     for model in [WaterModel::CircularCosine, WaterModel::AxisCosineNoise] {
-        compare_photons_with_twin(model, CausticPhotonDensity::Even);
+        compare_photons_with_twin(model, PhotonSpread::Even);
     }
     // The grid warped to the view: the shader's warp and its flux against the twin's, with the
     // warp surveyed again on the CPU from the same frame.
-    compare_photons_with_twin(WaterModel::AxisCosineNoise, CausticPhotonDensity::View);
+    compare_photons_with_twin(WaterModel::AxisCosineNoise, PhotonSpread::View);
 }
 
-fn compare_photons_with_twin(model: WaterModel, density: underlight::scene::CausticPhotonDensity) {
+fn compare_photons_with_twin(model: WaterModel, density: underlight::scene::PhotonSpread) {
     use glam::{UVec2, Vec3};
     use underlight::frame::uniforms::FrameUniforms;
     use underlight::frame::FrameOptions;
@@ -363,12 +363,13 @@ fn compare_photons_with_twin(model: WaterModel, density: underlight::scene::Caus
     let light_normals = images.light_normals.expect("light normal map");
 
     let mut uniforms = FrameUniforms::new(&scene, scene.bounds(), &extents, time);
-    if density == underlight::scene::CausticPhotonDensity::View {
+    if density == underlight::scene::PhotonSpread::View {
         let bvh = underlight::bvh::Bvh::of_scene(&scene);
-        let warp =
-            underlight::frame::photon_density::view_adapted(&scene, &bvh, &uniforms).expect("the pool is in view");
+        let warp = underlight::frame::photon_density::view_adapted(&scene, scene.bounds(), &bvh, &uniforms)
+            .caustics
+            .expect("the pool is in view");
         assert!(warp.peak_density() > 2.0, "the pool's view should concentrate the photons: {}", warp.peak_density());
-        warp.apply(&mut uniforms);
+        warp.apply_to_caustics(&mut uniforms);
     }
     let noise = NoiseTexture::generate();
     let caster =
@@ -509,7 +510,7 @@ fn photons_spread_for_the_view_light_flat_water_exactly() {
     // Jacobian at its centre rather than over its cell shows the warp's knots as stripes.
     // Measured on lavapipe: mean −0.002 % from the analytic value, per-pixel std 0.25 %.
     let mut scene = pool_with(0.0, CausticEstimator::Triangles, 320);
-    scene.effects.caustic_photon_density = underlight::scene::CausticPhotonDensity::View;
+    scene.effects.caustic_photon_density = underlight::scene::PhotonSpread::View;
     // A grid coarse enough that the even one would leave the view's pixels between photons.
     scene.effects.caustic_grid = 40;
     let (images, _) = render(&scene);

@@ -62,6 +62,7 @@ fn viewer_sessions_under_xvfb() {
         estimator: estimator.into(),
         // As the tank ships its triangles (the paper's points keep the even grid).
         photon_density: if estimator == "triangles" { "view" } else { "even" }.into(),
+        godray_photon_density: "view".into(),
         godray_method: "beams".into(),
         effect_ms: 1.0,
         frame_ms: 1.0,

@@ -20,16 +20,27 @@ struct Photon {
     float cell_scale; // its grid cell's area over the even grid's (photon_density_warp; 1 unwarped)
 };
 
-// The caustic photon grid's warp (frame::photon_density; Rust twin
-// shader_math::photon_density_warp): grid position g ∈ [0, 1]² to the photon window's uv,
-// through the inverse cumulative densities in the frame's uniforms: the window's v from the
-// rows' knots, the window's u from the knots of the two bands of v around it, interpolated so
-// that neighbouring photons stay neighbours.
+// The photon grid's warp (frame::photon_density; Rust twin shader_math::photon_density_warp):
+// grid position g ∈ [0, 1]² to the photon window's uv, through the inverse cumulative
+// densities in the frame's uniforms: the window's v from the rows' knots, the window's u from
+// the knots of the two bands of v around it, interpolated so that neighbouring photons stay
+// neighbours. The caustics' warp follows the pixels that see where photons land, the godray
+// beams' the view rays' length through the water above where they enter
+// (effects.caustic_photon_density, godray_photon_density).
+#ifdef PHOTON_BEAMS
+#define DENSITY_WARPED frame.godray_density_warped
+#define DENSITY_ROWS frame.godray_density_rows
+#define DENSITY_COLUMNS frame.godray_density_columns
+#else
+#define DENSITY_WARPED frame.photon_density_warped
+#define DENSITY_ROWS frame.photon_density_rows
+#define DENSITY_COLUMNS frame.photon_density_columns
+#endif
 float density_knot_lerp_v(float g) {
     const int segments = PHOTON_DENSITY_KNOTS - 1;
     float t = clamp(g, 0.0, 1.0) * float(segments);
     int k = min(int(t), segments - 1);
-    return mix(frame.photon_density_rows[k], frame.photon_density_rows[k + 1], t - float(k));
+    return mix(DENSITY_ROWS[k], DENSITY_ROWS[k + 1], t - float(k));
 }
 
 float density_knot_lerp_u(float g, float v) {
@@ -39,8 +50,8 @@ float density_knot_lerp_u(float g, float v) {
     float t = clamp(g, 0.0, 1.0) * float(segments);
     int k = min(int(t), segments - 1);
     int a = j * PHOTON_DENSITY_KNOTS + k, b = a + PHOTON_DENSITY_KNOTS;
-    float ua = mix(frame.photon_density_columns[a], frame.photon_density_columns[a + 1], t - float(k));
-    float ub = mix(frame.photon_density_columns[b], frame.photon_density_columns[b + 1], t - float(k));
+    float ua = mix(DENSITY_COLUMNS[a], DENSITY_COLUMNS[a + 1], t - float(k));
+    float ub = mix(DENSITY_COLUMNS[b], DENSITY_COLUMNS[b + 1], t - float(k));
     return mix(ua, ub, band - float(j));
 }
 
@@ -133,13 +144,11 @@ bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
     ph.cell_scale = 1.0;
     photon_fate = PHOTON_LANDED;
     // The grid covers the water's footprint in the light's window, not the whole window.
-    // Shifted by this frame's sub-cell offset (effects.photon_jitter; zero without it), and for
-    // the caustics warped to follow the pixels that see the light (effects.
-    // caustic_photon_density; the godray beams cross the view and keep the even grid).
+    // Shifted by this frame's sub-cell offset (effects.photon_jitter; zero without it), and
+    // warped to where the view needs photons (effects.caustic_photon_density and
+    // godray_photon_density; the identity without).
     uv += frame.photon_jitter / photons_per_axis;
-#ifndef PHOTON_BEAMS
-    if (frame.photon_density_warped > 0.0) uv = photon_density_warp(uv, 0.5 / photons_per_axis, ph.cell_scale);
-#endif
+    if (DENSITY_WARPED > 0.0) uv = photon_density_warp(uv, 0.5 / photons_per_axis, ph.cell_scale);
     uv = frame.photon_window_min + uv * frame.photon_window_size;
     vec2 ndc = uv * 2.0 - 1.0;
     vec4 a = frame.light_inv_view_proj * vec4(ndc, 0.0, 1.0);

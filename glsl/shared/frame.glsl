@@ -70,13 +70,17 @@ layout(set = 0, binding = BINDING_UNIFORMS, std430) readonly buffer FrameUniform
     vec3 refracted_light_axis;     // a directional light's direction under flat water (0: a point light)
     float refracted_texel_stretch; // max(1, |r_y| / |d_y|): a map texel's beam under the water against above
     vec2 photon_jitter;            // this frame's photon-grid offset, in photon cells (effects.photon_jitter)
-    vec2 unused_tail;
+    float godray_density_warped;   // 1: the godray beams follow godray_density_* (effects.godray_photon_density = "view")
+    float unused_tail;
     // The caustic photon grid's warp (frame::photon_density, photon_cast.glsl's
     // photon_density_warp): inverse cumulative densities, PHOTON_DENSITY_KNOTS knots each. Rows:
     // the window's v at grid v = k / (knots − 1). Columns: one row of knots per band of the
     // window's v, the window's u at grid u = k / (knots − 1).
     float photon_density_rows[32];
     float photon_density_columns[992];
+    // The godray grid's warp, alike.
+    float godray_density_rows[32];
+    float godray_density_columns[992];
 } frame;
 
 const int PHOTON_DENSITY_KNOTS = 32;

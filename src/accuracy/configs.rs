@@ -3,7 +3,7 @@
 //! reference settings.
 
 use crate::reference::ReferenceSettings;
-use crate::scene::{CausticEstimator, CausticPhotonDensity, GodrayMethod, LightKind, Scene};
+use crate::scene::{CausticEstimator, GodrayMethod, LightKind, PhotonSpread, Scene};
 use anyhow::{bail, Result};
 use std::path::PathBuf;
 
@@ -18,7 +18,8 @@ pub struct SweepAxes {
     pub line_width: Vec<f32>,
     pub filter: Vec<bool>,
     pub estimator: Vec<CausticEstimator>,
-    pub photon_density: Vec<CausticPhotonDensity>,
+    pub photon_density: Vec<PhotonSpread>,
+    pub godray_photon_density: Vec<PhotonSpread>,
     pub godray_method: Vec<GodrayMethod>,
 }
 
@@ -72,12 +73,21 @@ impl SweepAxes {
             if self.godray_method.is_empty() { vec![e.godray_method] } else { self.godray_method.clone() };
         let densities =
             if self.photon_density.is_empty() { vec![e.caustic_photon_density] } else { self.photon_density.clone() };
-        // Filter, estimator, photon density and godray method, the last varying fastest.
-        let mut switches: Vec<(bool, CausticEstimator, CausticPhotonDensity, GodrayMethod)> = Vec::new();
+        let beam_densities = if self.godray_photon_density.is_empty() {
+            vec![e.godray_photon_density]
+        } else {
+            self.godray_photon_density.clone()
+        };
+        // Filter, estimator, photon density, godray method and beam density, the last varying
+        // fastest.
+        let mut switches: Vec<(bool, CausticEstimator, PhotonSpread, GodrayMethod, PhotonSpread)> = Vec::new();
         for &filter in &filters {
             for &estimator in &estimators {
                 for &density in &densities {
-                    switches.extend(godray_methods.iter().map(|&method| (filter, estimator, density, method)));
+                    for &method in &godray_methods {
+                        switches
+                            .extend(beam_densities.iter().map(|&beams| (filter, estimator, density, method, beams)));
+                    }
                 }
             }
         }
@@ -88,7 +98,7 @@ impl SweepAxes {
                     for &scale in &orf(&self.target_scale, e.caustic_target_scale) {
                         for &size in &orf(&self.point_size, e.point_size_max) {
                             for &width in &orf(&self.line_width, e.line_width) {
-                                for &(filter, estimator, density, godray_method) in &switches {
+                                for &(filter, estimator, density, godray_method, beams) in &switches {
                                     let mut s = base.clone();
                                     let fx = &mut s.effects;
                                     fx.caustic_grid = grid;
@@ -101,6 +111,7 @@ impl SweepAxes {
                                     fx.filter = filter;
                                     fx.caustic_estimator = estimator;
                                     fx.caustic_photon_density = density;
+                                    fx.godray_photon_density = beams;
                                     fx.godray_method = godray_method;
                                     // The triangle estimator's subdivision bound (its
                                     // geometry shader's output limit) skips larger ones.

@@ -30,9 +30,12 @@ pub struct SweepRow {
     pub filter: bool,
     /// `CausticEstimator::name`.
     pub estimator: String,
-    /// `CausticPhotonDensity::name`. Sweeps written before it existed read as the even grid.
+    /// `PhotonSpread::name`. Sweeps written before it existed read as the even grid.
     #[serde(default = "default_photon_density")]
     pub photon_density: String,
+    /// The godray beams' `PhotonSpread::name`; the even grid for sweeps from before.
+    #[serde(default = "default_photon_density")]
+    pub godray_photon_density: String,
     /// `GodrayMethod::name`. Sweeps written before the method existed read as the beams.
     #[serde(default = "default_godray_method")]
     pub godray_method: String,
@@ -55,7 +58,7 @@ pub struct SweepRow {
 /// The photon density of a row read without one: sweeps from before it was an axis spread
 /// their photons evenly.
 fn default_photon_density() -> String {
-    crate::scene::CausticPhotonDensity::Even.name().to_string()
+    crate::scene::PhotonSpread::Even.name().to_string()
 }
 
 /// The godray method of a row read without one: sweeps from before the method was an axis
@@ -78,12 +81,13 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
     for (k, scene) in scenes.iter().enumerate() {
         let e = &scene.effects;
         eprintln!(
-            "setting {}/{}: {} estimator, {} photons, {} godrays, grid {}² × {}², {} iterations, target ×{}, points ≤ {} px, lines {} px, filter {}",
+            "setting {}/{}: {} estimator, {} photons, {} godrays ({} beams), grid {}² × {}², {} iterations, target ×{}, points ≤ {} px, lines {} px, filter {}",
             k + 1,
             scenes.len(),
             e.caustic_estimator.name(),
             e.caustic_photon_density.name(),
             e.godray_method.name(),
+            e.godray_photon_density.name(),
             e.caustic_grid,
             e.caustic_subdivision,
             e.iterations,
@@ -143,6 +147,7 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
             filter: e.filter,
             estimator: e.caustic_estimator.name().to_string(),
             photon_density: e.caustic_photon_density.name().to_string(),
+            godray_photon_density: e.godray_photon_density.name().to_string(),
             godray_method: e.godray_method.name().to_string(),
             effect_ms,
             frame_ms,

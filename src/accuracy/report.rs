@@ -24,7 +24,7 @@ pub fn mark_pareto(rows: &mut [SweepRow]) {
 
 pub fn csv(rows: &[SweepRow]) -> String {
     let mut s = String::from(
-        "estimator,godray_method,caustic_grid,caustic_subdivision,caustic_photons,photon_density,iterations,caustic_target_w,caustic_target_h,point_size_max,\
+        "estimator,godray_method,caustic_grid,caustic_subdivision,caustic_photons,photon_density,godray_photon_density,iterations,caustic_target_w,caustic_target_h,point_size_max,\
          line_width,filter,effect_ms,frame_ms,caustic_rel_rmse,caustic_mean_rel_error,caustic_flux_error,\
          godray_rel_rmse,godray_mean_rel_error,godray_flux_error,flip,caustic_change_gpu,caustic_change_reference,pareto\n",
     );
@@ -34,13 +34,14 @@ pub fn csv(rows: &[SweepRow]) -> String {
     };
     for r in rows {
         s += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{},{},{:.5},{:.5},{:.5},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{},{},{:.5},{:.5},{:.5},{}\n",
             r.estimator,
             r.godray_method,
             r.caustic_grid,
             r.caustic_subdivision,
             r.caustic_photons,
             r.photon_density,
+            r.godray_photon_density,
             r.iterations,
             r.caustic_target[0],
             r.caustic_target[1],
@@ -72,7 +73,11 @@ pub fn table(rows: &[SweepRow]) -> String {
         s += &format!(
             "| {} | {} | {}² × {}²{} | {} | {}×{} | {} | {} | {:.1} | {} | {} | {} | {:.3} | {:.3} / {:.3} | {} |\n",
             r.estimator,
-            r.godray_method,
+            if r.godray_photon_density == "even" {
+                r.godray_method.clone()
+            } else {
+                format!("{}, {}", r.godray_method, r.godray_photon_density)
+            },
             r.caustic_grid,
             r.caustic_subdivision,
             if r.photon_density == "even" { String::new() } else { format!(", {}", r.photon_density) },
@@ -193,6 +198,7 @@ mod tests {
             filter: true,
             estimator: estimator.into(),
             photon_density: "even".into(),
+            godray_photon_density: "even".into(),
             godray_method: godray_method.into(),
             effect_ms: 1.0,
             frame_ms: 2.0,

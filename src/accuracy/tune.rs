@@ -69,6 +69,7 @@ pub fn nearest_setting<'a>(rows: &'a [SweepRow], scene: &str, effects: &crate::s
             r.scene == scene
                 && r.estimator == effects.caustic_estimator.name()
                 && r.photon_density == effects.caustic_photon_density.name()
+                && r.godray_photon_density == effects.godray_photon_density.name()
                 && r.godray_method == effects.godray_method.name()
         })
         .min_by(|a, b| distance(a).partial_cmp(&distance(b)).unwrap_or(std::cmp::Ordering::Equal))
@@ -77,12 +78,13 @@ pub fn nearest_setting<'a>(rows: &'a [SweepRow], scene: &str, effects: &crate::s
 /// The `[effects]` table of a scene file with the picked setting (what the sweep varied).
 pub fn effects_block(row: &SweepRow) -> String {
     format!(
-        "[effects]\ncaustic_estimator = \"{}\"\ncaustic_grid = {}\ncaustic_subdivision = {}\ncaustic_photon_density = \"{}\"\ngodray_method = \"{}\"\niterations = {}\nfilter = {}\n",
+        "[effects]\ncaustic_estimator = \"{}\"\ncaustic_grid = {}\ncaustic_subdivision = {}\ncaustic_photon_density = \"{}\"\ngodray_method = \"{}\"\ngodray_photon_density = \"{}\"\niterations = {}\nfilter = {}\n",
         row.estimator,
         row.caustic_grid,
         row.caustic_subdivision,
         row.photon_density,
         row.godray_method,
+        row.godray_photon_density,
         row.iterations,
         row.filter
     )
@@ -107,6 +109,7 @@ mod tests {
             filter: true,
             estimator: "triangles".into(),
             photon_density: "view".into(),
+            godray_photon_density: "view".into(),
             godray_method: "beams".into(),
             effect_ms: ms,
             frame_ms: ms,
@@ -138,15 +141,16 @@ mod tests {
         assert_eq!(pick(&[], TuneGoal::MaxError(1.0)), Err(TuneMiss::NoRows));
         let mut effects = crate::scene::Effects {
             caustic_estimator: crate::scene::CausticEstimator::Triangles,
-            caustic_photon_density: crate::scene::CausticPhotonDensity::View,
+            caustic_photon_density: crate::scene::PhotonSpread::View,
+            godray_photon_density: crate::scene::PhotonSpread::View,
             caustic_grid: 310,
             caustic_subdivision: 3,
             ..Default::default()
         };
         assert_eq!(nearest_setting(&rows, "tank", &effects).unwrap().caustic_grid, 300);
-        effects.caustic_photon_density = crate::scene::CausticPhotonDensity::Even;
+        effects.caustic_photon_density = crate::scene::PhotonSpread::Even;
         assert!(nearest_setting(&rows, "tank", &effects).is_none(), "another photon density's rows");
-        effects.caustic_photon_density = crate::scene::CausticPhotonDensity::View;
+        effects.caustic_photon_density = crate::scene::PhotonSpread::View;
         assert!(nearest_setting(&rows, "port", &effects).is_none(), "another scene's sweep");
         effects.caustic_estimator = crate::scene::CausticEstimator::Paper;
         assert!(nearest_setting(&rows, "tank", &effects).is_none(), "another estimator's rows");

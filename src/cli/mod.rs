@@ -49,7 +49,7 @@ enum Command {
     Reference(reference::ReferenceArgs),
     /// The speed–accuracy trade: every combination of the given settings, each one's GPU time
     /// and its error against the reference; writes CSV, a Markdown table and the Pareto plot.
-    Sweep(sweep::SweepArgs),
+    Sweep(Box<sweep::SweepArgs>),
     /// What the low-resolution effect buffers cost at object edges: the scene as set against
     /// the same frame with its caustic and godray targets at full resolution.
     Edges(edges::EdgesArgs),
@@ -119,12 +119,12 @@ fn caustic_estimator(name: &str) -> std::result::Result<underlight::scene::Caust
     })
 }
 
-/// `--caustic-photon-density` / `sweep --photon-density` values.
-fn caustic_photon_density(name: &str) -> std::result::Result<underlight::scene::CausticPhotonDensity, String> {
-    use underlight::scene::CausticPhotonDensity;
-    CausticPhotonDensity::from_name(name).ok_or_else(|| {
-        let names: Vec<&str> = CausticPhotonDensity::ALL.iter().map(|d| d.name()).collect();
-        format!("no caustic photon density {name:?}; there are {}", names.join(", "))
+/// `--caustic-photon-density`, `--godray-photon-density` and the sweep's axes' values.
+fn caustic_photon_density(name: &str) -> std::result::Result<underlight::scene::PhotonSpread, String> {
+    use underlight::scene::PhotonSpread;
+    PhotonSpread::from_name(name).ok_or_else(|| {
+        let names: Vec<&str> = PhotonSpread::ALL.iter().map(|d| d.name()).collect();
+        format!("no photon density {name:?}; there are {}", names.join(", "))
     })
 }
 

@@ -58,7 +58,11 @@ pub(super) struct SceneArgs {
     /// Spread the caustic photons this way instead of the scene's: even (the paper's grid) or
     /// view (as many per receiver area as the pixels that see it).
     #[arg(long, value_name = "NAME", value_parser = caustic_photon_density)]
-    caustic_photon_density: Option<underlight::scene::CausticPhotonDensity>,
+    caustic_photon_density: Option<underlight::scene::PhotonSpread>,
+    /// Spread the godray beams this way instead of the scene's: even or view (in proportion to
+    /// the view rays' length through the water above where they enter).
+    #[arg(long, value_name = "NAME", value_parser = caustic_photon_density)]
+    godray_photon_density: Option<underlight::scene::PhotonSpread>,
 }
 
 /// `--hdr-format`.
@@ -89,6 +93,9 @@ pub(super) fn run(cli: &Cli, args: &SceneArgs) -> Result<i32> {
     }
     if let Some(density) = args.caustic_photon_density {
         scene.effects.caustic_photon_density = density;
+    }
+    if let Some(density) = args.godray_photon_density {
+        scene.effects.godray_photon_density = density;
     }
     if scene.camera.position.distance(scene.camera.look_at) < 1e-6 {
         bail!("--camera and --look-at give the same point: the camera needs a direction to look in");

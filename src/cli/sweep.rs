@@ -43,7 +43,10 @@ pub(super) struct SweepArgs {
     estimator: Vec<underlight::scene::CausticEstimator>,
     /// Caustic photon densities: even, view (comma-separated).
     #[arg(long, value_delimiter = ',', value_parser = caustic_photon_density)]
-    photon_density: Vec<underlight::scene::CausticPhotonDensity>,
+    photon_density: Vec<underlight::scene::PhotonSpread>,
+    /// Godray beam densities: even, view (comma-separated).
+    #[arg(long, value_delimiter = ',', value_parser = caustic_photon_density)]
+    godray_photon_density: Vec<underlight::scene::PhotonSpread>,
     /// Godray methods: beams, marched (comma-separated; marched needs a directional light).
     #[arg(long, value_delimiter = ',', value_parser = godray_method)]
     godray_method: Vec<underlight::scene::GodrayMethod>,
@@ -81,6 +84,7 @@ pub(super) fn run(cli: &Cli, args: &SweepArgs) -> Result<i32> {
         filter,
         estimator: args.estimator.clone(),
         photon_density: args.photon_density.clone(),
+        godray_photon_density: args.godray_photon_density.clone(),
         godray_method: args.godray_method.clone(),
     };
     axes.validate()?;
@@ -127,7 +131,7 @@ mod tests {
     fn sweep(args: &[&str]) -> Result<super::SweepArgs, clap::Error> {
         let cli = Cli::try_parse_from(["underlight", "sweep"].iter().chain(args))?;
         match cli.command {
-            Command::Sweep(args) => Ok(args),
+            Command::Sweep(args) => Ok(*args),
             _ => unreachable!("parsed as another subcommand"),
         }
     }

@@ -7,7 +7,7 @@ use super::{context_desc, finish, output_side, Cli};
 use anyhow::{bail, Context as _, Result};
 use std::path::PathBuf;
 use underlight::accuracy::{self, SweepAxes, TuneGoal};
-use underlight::scene::{CausticEstimator, CausticPhotonDensity};
+use underlight::scene::{CausticEstimator, PhotonSpread};
 use underlight::vk::Context;
 
 #[derive(clap::Args)]
@@ -64,7 +64,7 @@ pub(super) fn run(cli: &Cli, args: &TuneArgs) -> Result<i32> {
             subdivision: vec![3],
             filter: vec![true],
             estimator: vec![CausticEstimator::Triangles],
-            photon_density: vec![CausticPhotonDensity::View],
+            photon_density: vec![PhotonSpread::View],
             ..Default::default()
         },
         SweepAxes {
@@ -72,7 +72,7 @@ pub(super) fn run(cli: &Cli, args: &TuneArgs) -> Result<i32> {
             subdivision: vec![2],
             filter: vec![true],
             estimator: vec![CausticEstimator::Paper],
-            photon_density: vec![CausticPhotonDensity::Even],
+            photon_density: vec![PhotonSpread::Even],
             ..Default::default()
         },
     ];
@@ -155,6 +155,7 @@ fn write_scene(scene: &str, row: &underlight::accuracy::SweepRow, path: &std::pa
     effects["caustic_grid"] = toml_edit::value(i64::from(row.caustic_grid));
     effects["caustic_subdivision"] = toml_edit::value(i64::from(row.caustic_subdivision));
     effects["caustic_photon_density"] = toml_edit::value(row.photon_density.clone());
+    effects["godray_photon_density"] = toml_edit::value(row.godray_photon_density.clone());
     effects["godray_method"] = toml_edit::value(row.godray_method.clone());
     effects["iterations"] = toml_edit::value(i64::from(row.iterations));
     effects["filter"] = toml_edit::value(row.filter);

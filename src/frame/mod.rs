@@ -376,11 +376,12 @@ pub struct Frame {
     /// The noise's CPU twin: the surface's height at the camera each frame.
     noise_twin: NoiseTexture,
     /// The scene's triangles, for the survey of what the camera sees when the caustic photons
-    /// follow the view (`effects.caustic_photon_density = "view"`); None otherwise.
+    /// or the godray beams follow the view (`effects.caustic_photon_density` or
+    /// `godray_photon_density = "view"`); None otherwise.
     photon_survey: Option<crate::bvh::Bvh>,
-    /// The last warp surveyed and the frame it was surveyed for (camera, light, window): it is
-    /// surveyed again only when they change.
-    photon_density: Option<(PhotonDensityKey, Option<photon_density::PhotonDensity>)>,
+    /// The last warps surveyed and the frame they were surveyed for (camera, light, window):
+    /// surveyed again only when those change.
+    photon_density: Option<(PhotonDensityKey, photon_density::ViewDensities)>,
     _nearest: Sampler,
     _linear: Sampler,
 }
@@ -608,8 +609,11 @@ impl Frame {
                 }
             }
         }
-        let follows_view = scene.effects.caustic_photon_density == crate::scene::CausticPhotonDensity::View;
-        let photon_survey = (caustics.is_some() && follows_view).then(|| crate::bvh::Bvh::of_scene(scene));
+        let view = crate::scene::PhotonSpread::View;
+        let caustics_follow = caustics.is_some() && scene.effects.caustic_photon_density == view;
+        let beams_follow = godrays.as_ref().is_some_and(|g| g.method == GodrayMethod::Beams)
+            && scene.effects.godray_photon_density == view;
+        let photon_survey = (caustics_follow || beams_follow).then(|| crate::bvh::Bvh::of_scene(scene));
         Ok(Self {
             plan,
             extents,
@@ -660,10 +664,17 @@ impl Frame {
         if let Some(bvh) = &self.photon_survey {
             let key = (u.camera_view_proj, u.light_view_proj, u.photon_window_min, u.photon_window_size);
             if self.photon_density.as_ref().map(|(k, _)| *k) != Some(key) {
-                self.photon_density = Some((key, photon_density::view_adapted(&self.scene, bvh, &u)));
+                self.photon_density = Some((key, photon_density::view_adapted(&self.scene, self.bounds, bvh, &u)));
             }
-            if let Some((_, Some(density))) = &self.photon_density {
-                density.apply(&mut u);
+            if let Some((_, densities)) = &self.photon_density {
+                let e = &self.scene.effects;
+                let view = crate::scene::PhotonSpread::View;
+                if let (Some(d), true) = (&densities.caustics, e.caustic_photon_density == view) {
+                    d.apply_to_caustics(&mut u);
+                }
+                if let (Some(d), true) = (&densities.godrays, e.godray_photon_density == view) {
+                    d.apply_to_godrays(&mut u);
+                }
             }
         }
         if let Some(bytes) = self.uniforms[slot.index].mapped_mut() {

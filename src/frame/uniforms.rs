@@ -266,7 +266,7 @@ pub fn photon_jitter(time: f32) -> [f32; 2] {
 }
 
 /// Distance along a ray from `o` (inside or outside the box) to where it leaves [lo, hi].
-fn ray_box_exit(o: Vec3, d: Vec3, lo: Vec3, hi: Vec3) -> f32 {
+pub(super) fn ray_box_exit(o: Vec3, d: Vec3, lo: Vec3, hi: Vec3) -> f32 {
     let mut t = f32::INFINITY;
     for axis in 0..3 {
         if d[axis].abs() > 1e-9 {
@@ -382,9 +382,12 @@ impl FrameUniforms {
             refracted_light_axis: refracted.to_array(),
             refracted_texel_stretch: refracted_texel_stretch(light.axis, refracted),
             photon_jitter: if e.photon_jitter { photon_jitter(time) } else { [0.0; 2] },
-            unused_tail: [0.0; 2],
+            godray_density_warped: 0.0,
+            unused_tail: 0.0,
             photon_density_rows: super::photon_density::PhotonDensity::EVEN.rows,
             photon_density_columns: super::photon_density::PhotonDensity::EVEN.columns_flat(),
+            godray_density_rows: super::photon_density::PhotonDensity::EVEN.rows,
+            godray_density_columns: super::photon_density::PhotonDensity::EVEN.columns_flat(),
         }
     }
 }

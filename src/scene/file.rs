@@ -8,8 +8,8 @@
 //! the field as a dotted path (`water.wavelength`, `objects[1].scale`) and the allowed range.
 
 use super::{
-    Camera, CausticEstimator, CausticPhotonDensity, Effects, GodrayMethod, Light, LightKind, Medium, Mesh, Scene,
-    Water, WaterModel,
+    Camera, CausticEstimator, Effects, GodrayMethod, Light, LightKind, Medium, Mesh, PhotonSpread, Scene, Water,
+    WaterModel,
 };
 use anyhow::{anyhow, bail, Context as _, Result};
 use glam::{Mat3, Vec2, Vec3};
@@ -187,7 +187,7 @@ pub(super) enum CausticEstimatorFile {
 
 #[derive(Serialize, Deserialize, Clone, Copy)]
 #[serde(rename_all = "kebab-case")]
-pub(super) enum CausticPhotonDensityFile {
+pub(super) enum PhotonSpreadFile {
     Even,
     View,
 }
@@ -210,11 +210,12 @@ pub(super) struct EffectsFile {
     pub caustic_estimator: Option<CausticEstimatorFile>,
     pub caustic_grid: Option<u32>,
     pub caustic_subdivision: Option<u32>,
-    pub caustic_photon_density: Option<CausticPhotonDensityFile>,
+    pub caustic_photon_density: Option<PhotonSpreadFile>,
     pub photon_jitter: Option<bool>,
     // Ahead of the godray grid and subdivision: they are the beams' photons, which the
     // marched godrays do not use.
     pub godray_method: Option<GodrayMethodFile>,
+    pub godray_photon_density: Option<PhotonSpreadFile>,
     pub godray_grid: Option<u32>,
     pub godray_subdivision: Option<u32>,
     pub caustic_target_scale: Option<f64>,
@@ -883,8 +884,13 @@ impl EffectsFile {
             },
             caustic_photon_density: match self.caustic_photon_density {
                 None => d.caustic_photon_density,
-                Some(CausticPhotonDensityFile::Even) => CausticPhotonDensity::Even,
-                Some(CausticPhotonDensityFile::View) => CausticPhotonDensity::View,
+                Some(PhotonSpreadFile::Even) => PhotonSpread::Even,
+                Some(PhotonSpreadFile::View) => PhotonSpread::View,
+            },
+            godray_photon_density: match self.godray_photon_density {
+                None => d.godray_photon_density,
+                Some(PhotonSpreadFile::Even) => PhotonSpread::Even,
+                Some(PhotonSpreadFile::View) => PhotonSpread::View,
             },
             godray_method: match self.godray_method {
                 None => d.godray_method,

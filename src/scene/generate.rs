@@ -13,8 +13,8 @@
 //! shadow maps and back-face culling see what a viewer would.
 
 use super::file::{
-    CameraFile, CausticEstimatorFile, CausticPhotonDensityFile, EffectsFile, Gamma, LightFile, LightKindFile,
-    MediumFile, ObjectFile, OutputFile, SceneFile, WaterFile, WaterModelFile,
+    CameraFile, CausticEstimatorFile, EffectsFile, Gamma, LightFile, LightKindFile, MediumFile, ObjectFile, OutputFile,
+    PhotonSpreadFile, SceneFile, WaterFile, WaterModelFile,
 };
 use anyhow::{Context as _, Result};
 use glam::DVec3;
@@ -125,8 +125,8 @@ const MEDIUM: MediumFile = MediumFile { gamma: Some(Gamma::Uniform(0.13)), scatt
 const EFFECTS_COMMENT: &str = "\
 # Warped-cell triangles at about the GPU cost of the paper's 200² x 2² points, which they
 # beat on every built-in scene (docs/accuracy.md); caustic_estimator = \"paper\" restores those.
-# Their photons are spread as the view needs them; caustic_photon_density = \"even\" is the
-# paper's even grid.
+# Their photons and the godray beams are spread as the view needs them;
+# caustic_photon_density and godray_photon_density = \"even\" are the paper's even grids.
 ";
 
 struct Object {
@@ -212,7 +212,8 @@ impl SceneSpec {
                 caustic_estimator: Some(CausticEstimatorFile::Triangles),
                 caustic_grid: Some(100),
                 caustic_subdivision: Some(3),
-                caustic_photon_density: Some(CausticPhotonDensityFile::View),
+                caustic_photon_density: Some(PhotonSpreadFile::View),
+                godray_photon_density: Some(PhotonSpreadFile::View),
                 ..EffectsFile::default()
             }),
         };

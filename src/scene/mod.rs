@@ -174,28 +174,29 @@ impl GodrayMethod {
     }
 }
 
-/// How the caustic photons are spread over the water's footprint
-/// (`effects.caustic_photon_density`).
+/// How the photons of a grid are spread over the water's footprint
+/// (`effects.caustic_photon_density`, `effects.godray_photon_density`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
-pub enum CausticPhotonDensity {
+pub enum PhotonSpread {
     /// The paper's: an even grid over the water's footprint seen from the light.
     #[default]
     Even,
-    /// The grid warped so that each part of the footprint gets photons in proportion to the
-    /// pixels that see the light entering there (`frame::photon_density`): the near floor
-    /// gets more, water out of view few.
+    /// The grid warped to where the view needs photons (`frame::photon_density`): caustic
+    /// photons in proportion to the pixels that see where they land (the near floor gets
+    /// more, water out of view few), godray beams in proportion to the length of view ray
+    /// they cross.
     View,
 }
 
-impl CausticPhotonDensity {
-    pub const ALL: [CausticPhotonDensity; 2] = [CausticPhotonDensity::Even, CausticPhotonDensity::View];
+impl PhotonSpread {
+    pub const ALL: [PhotonSpread; 2] = [PhotonSpread::Even, PhotonSpread::View];
 
     /// The name scene files and command lines use.
     pub fn name(self) -> &'static str {
         match self {
-            CausticPhotonDensity::Even => "even",
-            CausticPhotonDensity::View => "view",
+            PhotonSpread::Even => "even",
+            PhotonSpread::View => "view",
         }
     }
 
@@ -215,7 +216,9 @@ pub struct Effects {
     /// Photons into irradiance: the paper's points or warped-cell triangles.
     pub caustic_estimator: CausticEstimator,
     /// The caustic photons on an even grid (the paper's) or spread as the view needs them.
-    pub caustic_photon_density: CausticPhotonDensity,
+    pub caustic_photon_density: PhotonSpread,
+    /// The godray beams alike.
+    pub godray_photon_density: PhotonSpread,
     /// Godrays from photon beams (the paper's) or ray-marched single scattering.
     pub godray_method: GodrayMethod,
     /// Godray grid (100) and subdivision (2): the beams' photons.
@@ -254,7 +257,8 @@ impl Default for Effects {
             caustic_grid: 200,
             caustic_subdivision: 2,
             caustic_estimator: CausticEstimator::Paper,
-            caustic_photon_density: CausticPhotonDensity::Even,
+            caustic_photon_density: PhotonSpread::Even,
+            godray_photon_density: PhotonSpread::Even,
             godray_method: GodrayMethod::Beams,
             godray_grid: 100,
             godray_subdivision: 2,

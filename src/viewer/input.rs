@@ -13,7 +13,7 @@ use winit::keyboard::KeyCode;
 /// Printed when the window opens.
 pub(super) const KEYS_HELP: &str =
     "keys: WASD/QE move (Shift faster), right-drag or arrows look, 1/2/3 caustics/godrays/filter, \
-     4 caustic estimator, 5 caustic photon density, \
+     4 caustic estimator, 5/6 caustic photon / godray beam density, \
      M water model, +/- amplitude, P pause, N step, H/L high/default preset, R reset camera, \
      I settings, F12 screenshot, Esc quit";
 
@@ -93,7 +93,8 @@ impl Live {
             KeyCode::Digit2 => self.toggle(Effect::Godrays)?,
             KeyCode::Digit3 => self.toggle(Effect::Filter)?,
             KeyCode::Digit4 => self.next_estimator()?,
-            KeyCode::Digit5 => self.next_photon_density()?,
+            KeyCode::Digit5 => self.next_photon_density(false)?,
+            KeyCode::Digit6 => self.next_photon_density(true)?,
             KeyCode::KeyM => self.next_water(),
             KeyCode::Equal | KeyCode::NumpadAdd => self.scale_amplitude(1.25),
             KeyCode::Minus | KeyCode::NumpadSubtract => self.scale_amplitude(0.8),
@@ -141,16 +142,17 @@ impl Live {
         self.gpu.rebuild_current(&self.view.scene)
     }
 
-    /// The caustic photons on the even grid or spread as the view needs them (rebuilt: the
-    /// frame surveys the scene's triangles only for the second).
-    pub(super) fn next_photon_density(&mut self) -> Result<()> {
-        use crate::scene::CausticPhotonDensity;
+    /// The caustic photons (or, `beams`, the godray beams) on the even grid or spread as the
+    /// view needs them (rebuilt: the frame surveys the scene's triangles only for the second).
+    pub(super) fn next_photon_density(&mut self, beams: bool) -> Result<()> {
+        use crate::scene::PhotonSpread;
         let e = &mut self.view.scene.effects;
-        e.caustic_photon_density = match e.caustic_photon_density {
-            CausticPhotonDensity::Even => CausticPhotonDensity::View,
-            CausticPhotonDensity::View => CausticPhotonDensity::Even,
+        let density = if beams { &mut e.godray_photon_density } else { &mut e.caustic_photon_density };
+        *density = match *density {
+            PhotonSpread::Even => PhotonSpread::View,
+            PhotonSpread::View => PhotonSpread::Even,
         };
-        println!("caustic photon density: {}", e.caustic_photon_density.name());
+        println!("{} density: {}", if beams { "godray beam" } else { "caustic photon" }, density.name());
         self.gpu.rebuild_current(&self.view.scene)
     }
 
@@ -172,6 +174,7 @@ impl Live {
                 e.caustic_subdivision = d.caustic_subdivision;
                 e.caustic_estimator = d.caustic_estimator;
                 e.caustic_photon_density = d.caustic_photon_density;
+                e.godray_photon_density = d.godray_photon_density;
                 e.godray_grid = d.godray_grid;
                 e.godray_subdivision = d.godray_subdivision;
                 e.point_size_min = d.point_size_min;

@@ -22,8 +22,9 @@ pub enum Step {
     Toggle(Effect),
     /// Switch to the next caustic estimator (the paper's points, triangles).
     NextEstimator,
-    /// Switch the caustic photons between the even grid and the view's density.
-    NextPhotonDensity,
+    /// Switch the caustic photons (false) or the godray beams (true) between the even grid
+    /// and the view's density.
+    NextPhotonDensity(bool),
     /// Switch to the other water model.
     NextWater,
     /// Scale the wave amplitude by this factor.
@@ -81,7 +82,11 @@ pub fn parse(text: &str) -> Result<Vec<Step>> {
             }),
             "water" => Step::NextWater,
             "estimator" => Step::NextEstimator,
-            "density" => Step::NextPhotonDensity,
+            "density" => Step::NextPhotonDensity(match arg {
+                "" | "caustics" => false,
+                "godrays" => true,
+                _ => bail!("{}: density, density:caustics or density:godrays", bad()),
+            }),
             "amplitude" => Step::Amplitude(floats(1)?[0]),
             "move" => {
                 let v = floats(3)?;
@@ -98,7 +103,7 @@ pub fn parse(text: &str) -> Result<Vec<Step>> {
             }),
             "screenshot" if !arg.is_empty() => Step::Screenshot(arg.to_string()),
             _ => bail!(
-                "{}: unknown step; steps are frames:N, resize:WxH, minimize, restore, toggle:EFFECT, estimator, density, water, \
+                "{}: unknown step; steps are frames:N, resize:WxH, minimize, restore, toggle:EFFECT, estimator, density[:caustics|godrays], water, \
                  amplitude:F, move:R/U/F, look:YAW/PITCH, preset:default|high, screenshot:PATH",
                 bad()
             ),
@@ -157,7 +162,7 @@ impl Live {
                 }
                 Step::Toggle(effect) => self.toggle(effect)?,
                 Step::NextEstimator => self.next_estimator()?,
-                Step::NextPhotonDensity => self.next_photon_density()?,
+                Step::NextPhotonDensity(beams) => self.next_photon_density(beams)?,
                 Step::NextWater => self.next_water(),
                 Step::Amplitude(f) => self.scale_amplitude(f),
                 Step::Move(r, u, f) => self.view.camera.translate(r, u, f),
