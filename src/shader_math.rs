@@ -250,7 +250,8 @@ pub fn water_intersect(w: &WaterParams, noise: &NoiseTexture, o: Vec3, d: Vec3, 
         (ta, fa) = (t, ft);
     }
     if fb > 0.0 {
-        return -1.0;
+        // Rounding at the slab's floor, which lies at or below the surface (see the GLSL).
+        return if fb <= 0.01 * bound + 1e-4 { tb } else { -1.0 };
     }
     // The evaluated point nearest the surface, not the last estimate (see the GLSL).
     let (mut best_t, mut best_f) = (tb, fb.abs());

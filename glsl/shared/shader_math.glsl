@@ -166,7 +166,10 @@ float water_intersect(WaterParams w, sampler2D noise, vec3 o, vec3 d, vec3 phase
         if (f <= 0.0) { tb = t; fb = f; break; }
         ta = t; fa = f;
     }
-    if (fb > 0.0) return -1.0; // rounding at the slab's floor
+    // The slab's floor lies at or below the surface, so a value above zero there is rounding:
+    // a ray kilometres long against a slab micrometres thin (a grazing ray over nearly flat
+    // water) cannot resolve it. The floor is then the hit, held to the tolerance below.
+    if (fb > 0.0) return fb <= 0.01 * bound + 1e-4 ? tb : -1.0;
     // Illinois: halve the value kept at an end that survives twice, so both ends move. The
     // answer is the evaluated point nearest the surface, not the last estimate: where the
     // surface runs almost along the ray (a grazing sun over noise), Illinois can stall beside
