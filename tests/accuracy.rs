@@ -10,7 +10,7 @@ use std::process::Command;
 use underlight::accuracy::cached_reference;
 use underlight::frame::FrameOptions;
 use underlight::headless::SceneRenderer;
-use underlight::metrics::buffer_error;
+use underlight::metrics::{buffer_error, gap_fraction, lit_holes};
 use underlight::reference::ReferenceSettings;
 use underlight::scene::Scene;
 use underlight::vk::vk;
@@ -43,9 +43,21 @@ fn reference_settings() -> ReferenceSettings {
     ReferenceSettings { caustic_photons: 8_000_000, godray_beams: 100_000, threads: 0, seed: 7 }
 }
 
-/// Caustic errors (relative RMSE, flux error) of the GPU frame for each variant of the scene,
-/// against one reference (the variants change only the method's settings).
-fn caustic_errors(variants: &[(String, Scene)]) -> Vec<(f64, f64)> {
+/// A variant's caustic buffer against the reference.
+#[derive(Clone, Copy, Debug)]
+struct CausticFigures {
+    rmse: f64,
+    flux: f64,
+    /// `metrics::gap_fraction` of the GPU's buffer and of the reference's.
+    gaps: f64,
+    reference_gaps: f64,
+    /// `metrics::lit_holes`.
+    holes: f64,
+}
+
+/// Caustic figures of the GPU frame for each variant of the scene, against one reference (the
+/// variants change only the method's settings).
+fn caustic_figures(variants: &[(String, Scene)]) -> Vec<CausticFigures> {
     let ctx = validated_context();
     let cache = cache_dir("variants");
     let mut errors = Vec::new();
@@ -58,12 +70,21 @@ fn caustic_errors(variants: &[(String, Scene)]) -> Vec<(f64, f64)> {
         let images = images.unwrap();
         let reference = cached_reference(scene, TIME, &extents, &reference_settings(), &cache).unwrap();
         let gpu = images.caustics_filtered.as_ref().or(images.caustics.as_ref()).unwrap();
-        let e = buffer_error(gpu, reference.caustics.as_ref().unwrap()).unwrap();
+        let r = reference.caustics.as_ref().unwrap();
+        let e = buffer_error(gpu, r).unwrap();
+        let figures = CausticFigures {
+            rmse: e.relative_rmse,
+            flux: e.flux_error,
+            gaps: gap_fraction(gpu),
+            reference_gaps: gap_fraction(r),
+            holes: lit_holes(gpu, r).unwrap(),
+        };
         eprintln!(
-            "{label}: caustic relative RMSE {:.3}, mean relative error {:.3}, flux error {:+.3}",
-            e.relative_rmse, e.mean_relative_error, e.flux_error
+            "{label}: caustic relative RMSE {:.3}, mean relative error {:.3}, flux error {:+.3}, gap fraction {:.4} \
+             (reference {:.4}), holes {:.4}",
+            e.relative_rmse, e.mean_relative_error, e.flux_error, figures.gaps, figures.reference_gaps, figures.holes
         );
-        errors.push((e.relative_rmse, e.flux_error));
+        errors.push(figures);
     }
     assert_clean_shutdown(ctx);
     std::fs::remove_dir_all(&cache).ok();
@@ -71,9 +92,9 @@ fn caustic_errors(variants: &[(String, Scene)]) -> Vec<(f64, f64)> {
 }
 
 /// Each variant's caustic error is below the one before it.
-fn assert_error_falls(errors: &[(f64, f64)], variants: &[(String, Scene)]) {
+fn assert_error_falls(errors: &[CausticFigures], variants: &[(String, Scene)]) {
     for (pair, names) in errors.windows(2).zip(variants.windows(2)) {
-        let ((e0, _), (e1, _)) = (pair[0], pair[1]);
+        let (e0, e1) = (pair[0].rmse, pair[1].rmse);
         assert!(e1 < e0, "caustic error does not fall from {} ({e0:.3}) to {} ({e1:.3})", names[0].0, names[1].0);
     }
 }
@@ -101,7 +122,7 @@ fn error_falls_as_the_photon_grid_grows() {
             (format!("tank {}×{}, 1 px splats, grid {grid}² × 2²", OUTPUT[0], OUTPUT[1]), s)
         })
         .collect();
-    let errors = caustic_errors(&variants);
+    let errors = caustic_figures(&variants);
     assert_error_falls(&errors, &variants);
 }
 
@@ -127,7 +148,7 @@ fn triangle_error_falls_as_the_mesh_refines() {
             (format!("tank {}×{}, triangles, grid {grid}² × 3²", OUTPUT[0], OUTPUT[1]), s)
         })
         .collect();
-    let errors = caustic_errors(&variants);
+    let errors = caustic_figures(&variants);
     assert_error_falls(&errors, &variants);
     // Measured: relative RMSE 1.40, 0.68, 0.28; flux −0.1 %, −1.5 %, −0.7 % (+1.1 %, −0.8 %,
     // −0.0 % before the triangles lit only the side of a receiver the camera sees; before each
@@ -135,7 +156,8 @@ fn triangle_error_falls_as_the_mesh_refines() {
     // 0.45 and +5.6 %, +7.1 %, +0.2 %, docs/accuracy.md). A share of a
     // third instead of a sixth doubles the flux, a photon flux not ∝ 1/N² scales it by the
     // grid's ratio squared: ±12 % catches both at every grid.
-    for ((_, flux), (name, _)) in errors.iter().zip(&variants) {
+    for (figures, (name, _)) in errors.iter().zip(&variants) {
+        let flux = figures.flux;
         assert!(flux.abs() < 0.12, "{name}: flux error {flux:+.3}");
     }
 }
@@ -161,8 +183,8 @@ fn photons_spread_for_the_view_lower_the_error_and_keep_the_flux() {
             (format!("tank {}×{}, triangles 48² × 3², {} photons", OUTPUT[0], OUTPUT[1], density.name()), s)
         })
         .collect();
-    let errors = caustic_errors(&variants);
-    let ((even, even_flux), (view, view_flux)) = (errors[0], errors[1]);
+    let errors = caustic_figures(&variants);
+    let (even, even_flux, view, view_flux) = (errors[0].rmse, errors[0].flux, errors[1].rmse, errors[1].flux);
     assert!(view < 0.8 * even, "the view's density should cut the error by a fifth: {even:.3} → {view:.3}");
     for (flux, (name, _)) in [even_flux, view_flux].iter().zip(&variants) {
         assert!(flux.abs() < 0.03, "{name}: flux error {flux:+.3}");
@@ -182,13 +204,21 @@ fn default_settings_error_on_the_tank() {
     // dropped. (At 160×160 the same settings read −12.7 %: splats up to 20 px are a fifth of
     // the 102² target there and spill past its border.)
     let scene = underlight::scene::load("tank").unwrap();
-    let errors = caustic_errors(&[(format!("tank {}×{} as shipped", scene.output[0], scene.output[1]), scene)]);
-    let (rmse, flux) = errors[0];
+    let errors = caustic_figures(&[(format!("tank {}×{} as shipped", scene.output[0], scene.output[1]), scene)]);
+    let CausticFigures { rmse, flux, gaps, reference_gaps, holes } = errors[0];
     assert!(flux.abs() < 0.05, "default settings: caustic flux error {flux:+.3}");
     // Relative RMSE here is mostly the reference's noise (above); the guard is the measured
     // figure with 15 % headroom for other drivers' rasterisation, and trips when light lands
     // in the wrong place.
     assert!(rmse < DEFAULT_RMSE_MEASURED * 1.15, "default settings: caustic relative RMSE {rmse:.3}");
+    // Gaps. The gap fraction (zero pixels in lit regions, issue 16's figure) counts a hard
+    // shadow's border, which the reference leaves dark too: it reads 0.092 for the reference
+    // itself. The GPU's must not exceed the reference's (measured 0.083; the paper's points
+    // read 0.22). Against the pixels the reference lights with all their neighbours, the
+    // share the GPU leaves at zero is measured 0.012, on the shelf's front, the rocks' sides
+    // and the floor beside their shadows, where lone photons draw squares; none on the floors.
+    assert!(gaps <= reference_gaps + 0.005, "gap fraction {gaps:.4} against the reference's {reference_gaps:.4}");
+    assert!(holes < 0.02, "{:.1} % of the pixels the reference lights hold nothing", 100.0 * holes);
 }
 
 #[test]
