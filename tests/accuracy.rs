@@ -23,8 +23,9 @@ const OUTPUT: [u32; 2] = [160, 160];
 /// planes, the triangles deposit their own flux and the light's maps bend at the water, 0.980
 /// since the scenes ship the photons spread for the view (`caustic_photon_density = "view"`:
 /// the same photons, most of them where the camera sees the floor) and light only the side of
-/// a receiver the camera sees. At 512² the reference's 8M photons leave about 30 per pixel,
-/// and its own noise is much of the figure.
+/// a receiver the camera sees. Against a 64M-photon reference it reads 0.956, and the 8M and
+/// 64M references differ by 0.223: the figure is the 100² × 3² mesh's coarseness at the 512²
+/// caustic target, not the reference's noise (200² × 3² reads 0.404).
 const DEFAULT_RMSE_MEASURED: f64 = 0.980;
 
 fn tank() -> Scene {
