@@ -1,6 +1,6 @@
-//! Where the caustic photons go: the paper's even grid over the water's footprint, or a grid
-//! warped so that each part of the footprint gets photons in proportion to the pixels that see
-//! the light entering there (`effects.caustic_photon_density = "view"`).
+//! Where the photons go: the paper's even grid over the water's footprint, or a grid warped
+//! to where the view needs them (`effects.caustic_photon_density` and `godray_photon_density
+//! = "view"`).
 //!
 //! Why: the triangle estimator resolves a caustic as finely as its mesh, and an even grid
 //! spends the same photons on a metre of seabed at the far end of the port (two pixels) as on
@@ -8,22 +8,25 @@
 //! spacing in pixels, so the error summed over pixels is least when the photons per
 //! receiver area follow the pixels per receiver area: with `q` pixels and `n` photons per m²,
 //! a pixel's error grows with the spacing `√(q/n)`, and minimising `∫ q·(q/n)^s` subject to
-//! `∫ n = N` gives `n ∝ q` for any power `s`.
+//! `∫ n = N` gives `n ∝ q` for any power `s`. A pixel's godray sums the beams its view ray
+//! crosses, so the beams follow the length of view ray through the water above where they
+//! enter.
 //!
 //! How: `view_adapted` casts a grid of camera rays against the scene's triangles (each ray
-//! stands for the same number of pixels), takes every receiver it meets under the water back
-//! up the refracted light to where its photons enter the water (through flat water), and
-//! counts the rays per cell of a `SEGMENTS`² histogram over the photon window. Blurred by a
-//! cell (the waves bend photons sideways) and floored at `FLOOR` of the mean (so that
-//! receivers no ray met still get photons), the histogram is a piecewise-constant density.
+//! stands for the same number of pixels). It takes every receiver a ray meets under the water
+//! back up the refracted light to where its photons enter the water (through flat water), and
+//! counts the rays per cell of a `SEGMENTS`² histogram over the photon window; for the beams,
+//! it adds the length of each step along the ray's underwater part to the cell above the step.
+//! Blurred (`BLUR`: the waves bend photons sideways) and floored at `FLOOR` of the mean (so that
+//! receivers no ray met still get photons), each histogram is a piecewise-constant density.
 //! The warp is its inverse cumulative distribution: the window's v from the rows' marginal,
 //! the window's u from each row's conditional, interpolated between rows so that the mesh
 //! stays continuous. `cast_photon` (photon_cast.glsl, twin `shader_math::photon_density_warp`)
-//! maps its grid position through it and scales the photon's flux by the warp's Jacobian: a
-//! photon carries the light through its own cell, however large.
+//! maps its grid position through it and scales the photon's flux by its warped cell's area
+//! over the even cell's: a photon carries the light through its own cell, however large.
 //!
-//! The warp depends on the camera and the light, not the time, so the frame computes it when
-//! either moves (`Frame::record`), not every frame.
+//! The warps depend on the camera and the light, not the time, so the frame computes them
+//! when either moves (`Frame::record`), not every frame.
 
 use crate::bvh::Bvh;
 use crate::scene::Scene;
@@ -37,7 +40,7 @@ const RAYS: [usize; 2] = [80, 50];
 /// Passes of a 3×3 box blur over the histogram. The blur stands for the waves, which bend a
 /// photon sideways from where flat water would take it, and it keeps the warp smooth: the
 /// survey's counts are a few per cell, and a warp that follows their noise gives a mesh of
-/// uneven cells (31² cells, 4000 rays, 320×200, caustic rel. RMSE tank / port / storage:
+/// uneven cells (31² cells, 2400 rays, 320×200, caustic rel. RMSE tank / port / storage:
 /// one pass 0.403 / 0.440 / 0.516, two 0.357 / 0.373 / 0.493, three 0.331 / 0.365 / 0.473).
 const BLUR: usize = 3;
 /// The least density, as a share of the mean: receivers between the rays, and light the waves
