@@ -260,27 +260,34 @@ fn medium_at_its_limits() {
     );
 }
 
+/// Cameras at, just off and far from the water plane, and on the floor.
+const WATERLINE_CAMERAS: [(&str, Vec3, Vec3); 6] = [
+    ("at the water plane", Vec3::new(-3.0, 0.0, 0.0), Vec3::new(3.0, -0.5, 0.0)),
+    ("1 cm above", Vec3::new(-3.0, 0.01, 0.0), Vec3::new(3.0, -0.5, 0.0)),
+    ("1 cm below", Vec3::new(-3.0, -0.01, 0.0), Vec3::new(3.0, -0.5, 0.0)),
+    ("above, looking down", Vec3::new(0.0, 3.0, 0.5), Vec3::new(0.0, -FLOOR_DEPTH, 0.0)),
+    ("far below the floor", Vec3::new(0.0, -50.0, 0.0), Vec3::new(0.0, 0.0, 0.1)),
+    ("on the floor, looking up", Vec3::new(1.0, -FLOOR_DEPTH + 1e-3, 0.0), Vec3::new(1.0, 0.0, 0.0)),
+];
+
+/// The wavy pool at 48×48, small grids, seen from `position` towards `look_at`.
+fn waterline_view(position: Vec3, look_at: Vec3) -> Scene {
+    let mut s = pool(0.04);
+    s.water.noise_amplitude = 0.02;
+    s.output = [48, 48];
+    s.effects.caustic_grid = 48;
+    s.effects.godray_grid = 16;
+    s.camera.position = position;
+    s.camera.look_at = look_at;
+    s.camera.z_far = 100.0;
+    s
+}
+
 #[test]
 fn camera_at_and_around_the_waterline() {
     let ctx = validated_context();
-    let cameras: [(&str, Vec3, Vec3); 6] = [
-        ("at the water plane", Vec3::new(-3.0, 0.0, 0.0), Vec3::new(3.0, -0.5, 0.0)),
-        ("1 cm above", Vec3::new(-3.0, 0.01, 0.0), Vec3::new(3.0, -0.5, 0.0)),
-        ("1 cm below", Vec3::new(-3.0, -0.01, 0.0), Vec3::new(3.0, -0.5, 0.0)),
-        ("above, looking down", Vec3::new(0.0, 3.0, 0.5), Vec3::new(0.0, -FLOOR_DEPTH, 0.0)),
-        ("far below the floor", Vec3::new(0.0, -50.0, 0.0), Vec3::new(0.0, 0.0, 0.1)),
-        ("on the floor, looking up", Vec3::new(1.0, -FLOOR_DEPTH + 1e-3, 0.0), Vec3::new(1.0, 0.0, 0.0)),
-    ];
-    for (label, position, look_at) in cameras {
-        let mut s = pool(0.04);
-        s.water.noise_amplitude = 0.02;
-        s.output = [48, 48];
-        s.effects.caustic_grid = 48;
-        s.effects.godray_grid = 16;
-        s.camera.position = position;
-        s.camera.look_at = look_at;
-        s.camera.z_far = 100.0;
-        render(&ctx, &s, 0.5, label);
+    for (label, position, look_at) in WATERLINE_CAMERAS {
+        render(&ctx, &waterline_view(position, look_at), 0.5, label);
     }
     let projections: [(&str, f32, f32, f32); 4] = [
         ("z_near 10 µm", 1e-5, 10.0, 60.0),
@@ -457,23 +464,11 @@ fn photons_spread_for_the_view_at_the_extremes() {
         s.effects.caustic_photon_density = PhotonSpread::View;
         s.effects.godray_photon_density = PhotonSpread::View;
     };
-    let cameras: [(&str, Vec3, Vec3); 6] = [
-        ("at the water plane", Vec3::new(-3.0, 0.0, 0.0), Vec3::new(3.0, -0.5, 0.0)),
-        ("1 cm above", Vec3::new(-3.0, 0.01, 0.0), Vec3::new(3.0, -0.5, 0.0)),
-        ("above, looking down", Vec3::new(0.0, 3.0, 0.5), Vec3::new(0.0, -FLOOR_DEPTH, 0.0)),
-        ("above, looking at the sky", Vec3::new(0.0, 3.0, 0.0), Vec3::new(0.3, 9.0, 0.0)),
-        ("far below the floor", Vec3::new(0.0, -50.0, 0.0), Vec3::new(0.0, 0.0, 0.1)),
-        ("on the floor, looking up", Vec3::new(1.0, -FLOOR_DEPTH + 1e-3, 0.0), Vec3::new(1.0, 0.0, 0.0)),
-    ];
-    for (label, position, look_at) in cameras {
-        let mut s = pool(0.04);
-        s.water.noise_amplitude = 0.02;
-        s.output = [48, 48];
-        s.effects.caustic_grid = 48;
-        s.effects.godray_grid = 16;
-        s.camera.position = position;
-        s.camera.look_at = look_at;
-        s.camera.z_far = 100.0;
+    // The cameras of `camera_at_and_around_the_waterline`, and one that sees no water at all
+    // (the survey finds nothing and the grids stay even).
+    let sky = ("above, looking at the sky", Vec3::new(0.0, 3.0, 0.0), Vec3::new(0.3, 9.0, 0.0));
+    for (label, position, look_at) in WATERLINE_CAMERAS.into_iter().chain([sky]) {
+        let mut s = waterline_view(position, look_at);
         spread(&mut s);
         render(&ctx, &s, 0.5, &format!("spread for the view, {label}"));
     }

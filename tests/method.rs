@@ -513,19 +513,7 @@ fn photons_spread_for_the_view_light_flat_water_exactly() {
     scene.effects.caustic_photon_density = underlight::scene::PhotonSpread::View;
     // A grid coarse enough that the even one would leave the view's pixels between photons.
     scene.effects.caustic_grid = 40;
-    let (images, _) = render(&scene);
-    let caustics = images.caustics.as_ref().unwrap();
-    assert!(!caustics.has_non_finite());
-    let expected = directional_irradiance(&scene) as f64
-        * fresnel_transmittance(1.0, scene.water.ior) as f64
-        * (-0.13f64 * FLOOR_DEPTH as f64).exp();
-    let (mean, rel_std, peak) = central_stats(caustics, 1);
-    eprintln!(
-        "view density, flat floor: mean {mean:e} (analytic {expected:e}), per-pixel std {rel_std}, peak/mean {peak}"
-    );
-    assert!((mean / expected - 1.0).abs() < 0.01, "floor irradiance {mean:e} W/m², analytic {expected:e}");
-    assert!(rel_std < 0.01, "flat water should light every pixel alike: relative std {rel_std}");
-    assert_eq!(gap_fraction(caustics), 0.0, "a pixel of the lit floor holds nothing");
+    assert_flat_floor_lit_exactly(&scene, "view density");
 }
 
 #[test]
@@ -535,21 +523,26 @@ fn triangle_estimator_lights_flat_water_exactly_and_without_gaps() {
     // irradiance, with no splat footprint to leave a bias or a block pattern.
     // At 320×320 the floor's triangles are about 1 px² (at the pool's 96×96 they are a
     // fifth of that and draw as single pixels: glsl/caustics/caustics_triangles.geom).
+    // Per pixel, not per block: the points need 4×4 blocks and 3 % to pass the same checks.
     let scene = pool_with(0.0, CausticEstimator::Triangles, 320);
-    let (images, _) = render(&scene);
+    assert_flat_floor_lit_exactly(&scene, "triangles");
+}
+
+/// Renders `scene` (the pool under flat water) and asserts that every pixel of the central
+/// half holds the analytic floor irradiance E⊥ · T(0) · e^(−γ·depth): the mean within 1 %,
+/// the per-pixel spread under 1 %, and no pixel of the lit floor empty.
+fn assert_flat_floor_lit_exactly(scene: &Scene, label: &str) {
+    let (images, _) = render(scene);
     let caustics = images.caustics.as_ref().unwrap();
     assert!(!caustics.has_non_finite());
-    let expected = directional_irradiance(&scene) as f64
+    let expected = directional_irradiance(scene) as f64
         * fresnel_transmittance(1.0, scene.water.ior) as f64
         * (-0.13f64 * FLOOR_DEPTH as f64).exp();
     let (mean, rel_std, peak) = central_stats(caustics, 1);
-    eprintln!(
-        "triangles, flat floor: mean {mean:e} (analytic {expected:e}), per-pixel std {rel_std}, peak/mean {peak}"
-    );
-    // Per pixel, not per block: the points need 4×4 blocks and 3 % to pass the same checks.
-    assert!((mean / expected - 1.0).abs() < 0.01, "floor irradiance {mean:e} W/m², analytic {expected:e}");
-    assert!(rel_std < 0.01, "flat water should light every pixel alike: relative std {rel_std}");
-    assert_eq!(gap_fraction(caustics), 0.0, "a pixel of the lit floor holds nothing");
+    eprintln!("{label}, flat floor: mean {mean:e} (analytic {expected:e}), per-pixel std {rel_std}, peak/mean {peak}");
+    assert!((mean / expected - 1.0).abs() < 0.01, "{label}: floor irradiance {mean:e} W/m², analytic {expected:e}");
+    assert!(rel_std < 0.01, "{label}: flat water should light every pixel alike: relative std {rel_std}");
+    assert_eq!(gap_fraction(caustics), 0.0, "{label}: a pixel of the lit floor holds nothing");
 }
 
 #[test]

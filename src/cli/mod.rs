@@ -120,7 +120,7 @@ fn caustic_estimator(name: &str) -> std::result::Result<underlight::scene::Caust
 }
 
 /// `--caustic-photon-density`, `--godray-photon-density` and the sweep's axes' values.
-fn caustic_photon_density(name: &str) -> std::result::Result<underlight::scene::PhotonSpread, String> {
+fn photon_spread(name: &str) -> std::result::Result<underlight::scene::PhotonSpread, String> {
     use underlight::scene::PhotonSpread;
     PhotonSpread::from_name(name).ok_or_else(|| {
         let names: Vec<&str> = PhotonSpread::ALL.iter().map(|d| d.name()).collect();

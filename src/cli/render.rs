@@ -2,8 +2,7 @@
 //! times and, on request, the photons' flux budget.
 
 use super::{
-    caustic_estimator, caustic_photon_density, context_desc, effect_png_exposure, finish, output_side, prepare_outputs,
-    Cli,
+    caustic_estimator, context_desc, effect_png_exposure, finish, output_side, photon_spread, prepare_outputs, Cli,
 };
 use anyhow::{bail, Context as _, Result};
 use std::path::PathBuf;
@@ -57,11 +56,11 @@ pub(super) struct SceneArgs {
     caustic_estimator: Option<underlight::scene::CausticEstimator>,
     /// Spread the caustic photons this way instead of the scene's: even (the paper's grid) or
     /// view (as many per receiver area as the pixels that see it).
-    #[arg(long, value_name = "NAME", value_parser = caustic_photon_density)]
+    #[arg(long, value_name = "NAME", value_parser = photon_spread)]
     caustic_photon_density: Option<underlight::scene::PhotonSpread>,
     /// Spread the godray beams this way instead of the scene's: even or view (in proportion to
     /// the view rays' length through the water above where they enter).
-    #[arg(long, value_name = "NAME", value_parser = caustic_photon_density)]
+    #[arg(long, value_name = "NAME", value_parser = photon_spread)]
     godray_photon_density: Option<underlight::scene::PhotonSpread>,
 }
 

@@ -2,7 +2,7 @@
 //! reference.
 
 use super::reference::ReferenceOptions;
-use super::{caustic_estimator, caustic_photon_density, context_desc, finish, godray_method, output_side, Cli, OnOff};
+use super::{caustic_estimator, context_desc, finish, godray_method, output_side, photon_spread, Cli, OnOff};
 use anyhow::{bail, Context as _, Result};
 use std::path::PathBuf;
 use underlight::vk::Context;
@@ -42,10 +42,10 @@ pub(super) struct SweepArgs {
     #[arg(long, value_delimiter = ',', value_parser = caustic_estimator)]
     estimator: Vec<underlight::scene::CausticEstimator>,
     /// Caustic photon densities: even, view (comma-separated).
-    #[arg(long, value_delimiter = ',', value_parser = caustic_photon_density)]
+    #[arg(long, value_delimiter = ',', value_parser = photon_spread)]
     photon_density: Vec<underlight::scene::PhotonSpread>,
     /// Godray beam densities: even, view (comma-separated).
-    #[arg(long, value_delimiter = ',', value_parser = caustic_photon_density)]
+    #[arg(long, value_delimiter = ',', value_parser = photon_spread)]
     godray_photon_density: Vec<underlight::scene::PhotonSpread>,
     /// Godray methods: beams, marched (comma-separated; marched needs a directional light).
     #[arg(long, value_delimiter = ',', value_parser = godray_method)]

@@ -114,12 +114,12 @@ impl PhotonDensity {
     /// The warp's densest cell against its mean: how much finer the mesh is there than the
     /// even grid's (by area).
     pub fn peak_density(&self) -> f32 {
-        let mut peak = 0.0f32;
+        let (mut peak, columns) = (0.0f32, self.columns_flat());
         for j in 0..SEGMENTS {
             for k in 0..SEGMENTS {
                 let g = Vec2::new((k as f32 + 0.5) / SEGMENTS as f32, (j as f32 + 0.5) / SEGMENTS as f32);
                 let (_, jacobian) =
-                    crate::shader_math::photon_density_warp(&self.rows, &self.columns_flat(), g, 0.5 / SEGMENTS as f32);
+                    crate::shader_math::photon_density_warp(&self.rows, &columns, g, 0.5 / SEGMENTS as f32);
                 peak = peak.max(1.0 / jacobian.max(1e-12));
             }
         }

@@ -192,6 +192,15 @@ pub(super) enum PhotonSpreadFile {
     View,
 }
 
+impl From<PhotonSpreadFile> for PhotonSpread {
+    fn from(f: PhotonSpreadFile) -> Self {
+        match f {
+            PhotonSpreadFile::Even => PhotonSpread::Even,
+            PhotonSpreadFile::View => PhotonSpread::View,
+        }
+    }
+}
+
 #[derive(Serialize, Deserialize, Clone, Copy)]
 #[serde(rename_all = "kebab-case")]
 pub(super) enum GodrayMethodFile {
@@ -882,16 +891,8 @@ impl EffectsFile {
                 Some(CausticEstimatorFile::Paper) => CausticEstimator::Paper,
                 Some(CausticEstimatorFile::Triangles) => CausticEstimator::Triangles,
             },
-            caustic_photon_density: match self.caustic_photon_density {
-                None => d.caustic_photon_density,
-                Some(PhotonSpreadFile::Even) => PhotonSpread::Even,
-                Some(PhotonSpreadFile::View) => PhotonSpread::View,
-            },
-            godray_photon_density: match self.godray_photon_density {
-                None => d.godray_photon_density,
-                Some(PhotonSpreadFile::Even) => PhotonSpread::Even,
-                Some(PhotonSpreadFile::View) => PhotonSpread::View,
-            },
+            caustic_photon_density: self.caustic_photon_density.map_or(d.caustic_photon_density, PhotonSpread::from),
+            godray_photon_density: self.godray_photon_density.map_or(d.godray_photon_density, PhotonSpread::from),
             godray_method: match self.godray_method {
                 None => d.godray_method,
                 Some(GodrayMethodFile::Beams) => GodrayMethod::Beams,
