@@ -32,11 +32,11 @@ fn bench_smoke_reports_every_pass() {
         largest = largest.max(mid);
     }
     assert!(r["total"]["median_ms"].as_f64().unwrap() >= largest);
-    // Scaling: five series of four points, each with a finite fitted slope, and the photon
+    // Scaling: six series of four points, each with a finite fitted slope, and the photon
     // series really varies the photon count (grid ×0.5 → ×2 is ×16 photons). No timing is
     // asserted: timings are figures to read, not pass/fail thresholds.
     let scaling = doc["scaling"].as_array().unwrap();
-    assert_eq!(scaling.len(), 5);
+    assert_eq!(scaling.len(), 6);
     for s in scaling {
         assert_eq!(s["points"].as_array().unwrap().len(), 4, "{s}");
         assert!(s["slope_ms"].as_f64().unwrap().is_finite());
@@ -44,6 +44,9 @@ fn bench_smoke_reports_every_pass() {
     let photons = scaling[0]["points"].as_array().unwrap();
     let (first, last) = (photons[0][0].as_f64().unwrap(), photons[3][0].as_f64().unwrap());
     assert!((last / first - 16.0).abs() < 0.5, "photon counts {first} → {last} (grid ×0.5 → ×2)");
+    // The subdivision series splits tiny's 32² caustic photons as 32² × 1², …, 4² × 8².
+    let split: Vec<f64> = scaling[1]["points"].as_array().unwrap().iter().map(|p| p[0].as_f64().unwrap()).collect();
+    assert_eq!(split, [1.0, 2.0, 4.0, 8.0]);
     let rows = std::fs::read_to_string(&csv).unwrap();
     assert_eq!(rows.lines().count(), 1 + passes.len() + 1, "{rows}");
     assert!(

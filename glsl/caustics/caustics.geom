@@ -21,8 +21,7 @@ layout(constant_id = 0) const uint SUBDIVISION = 2;
 layout(push_constant) uniform GridPush { uint grid; } pc;
 
 layout(location = 0) flat in uvec2 v_cell[];
-layout(location = 0) flat out vec4 g_irradiance; // rgb: irradiance / E_surface per covered pixel; a = 1 per photon
-layout(location = 1) flat out float g_view_depth;
+layout(location = 0) flat out vec3 g_irradiance; // irradiance / E_surface per covered pixel
 
 void main() {
     float photons_per_axis = float(pc.grid * SUBDIVISION);
@@ -40,8 +39,7 @@ void main() {
             if (!landed || !caustic_splat(ph, splat)) continue;
             gl_Position = splat.clip;
             gl_PointSize = splat.size;
-            g_irradiance = splat.irradiance;
-            g_view_depth = splat.clip.w;
+            g_irradiance = splat.irradiance.rgb;
             EmitVertex();
         }
     }

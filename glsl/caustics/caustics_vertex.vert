@@ -7,8 +7,7 @@
 layout(constant_id = 0) const uint SUBDIVISION = 2;
 layout(push_constant) uniform GridPush { uint grid; } pc;
 
-layout(location = 0) flat out vec4 g_irradiance;
-layout(location = 1) flat out float g_view_depth;
+layout(location = 0) flat out vec3 g_irradiance;
 
 void main() {
     vec2 uv = photon_index_uv(uint(gl_VertexIndex), SUBDIVISION, pc.grid);
@@ -17,13 +16,11 @@ void main() {
     if (cast_photon(uv, float(pc.grid * SUBDIVISION), ph) && caustic_splat(ph, splat)) {
         gl_Position = splat.clip;
         gl_PointSize = splat.size;
-        g_irradiance = splat.irradiance;
-        g_view_depth = splat.clip.w;
+        g_irradiance = splat.irradiance.rgb;
     } else {
         // Dropped: outside the clip volume's depth range, which clips a point exactly.
         gl_Position = vec4(0.0, 0.0, -1.0, 1.0);
         gl_PointSize = 1.0;
-        g_irradiance = vec4(0.0);
-        g_view_depth = 0.0;
+        g_irradiance = vec3(0.0);
     }
 }

@@ -5,12 +5,10 @@ layout(location = 0) in vec4 in_clip;
 layout(location = 1) in vec4 in_irradiance;
 layout(location = 2) in vec4 in_size_depth;
 
-layout(location = 0) flat out vec4 g_irradiance;
-layout(location = 1) flat out float g_view_depth;
+layout(location = 0) flat out vec3 g_irradiance;
 
 void main() {
     gl_Position = in_clip;
     gl_PointSize = in_size_depth.x;
-    g_irradiance = in_irradiance;
-    g_view_depth = in_size_depth.y;
+    g_irradiance = in_irradiance.rgb;
 }

@@ -224,8 +224,9 @@ fn fit(points: &[(f64, f64)]) -> (f64, f64) {
     (slope, my - slope * mx)
 }
 
-/// Cost against the work: caustic photons, godray photons, caustic target pixels, point size
-/// and line width, each varied alone from paper-800 (or from `base`, scaled down for tests).
+/// Cost against the work: caustic photons, their split between the coarse grid and the
+/// subdivision, godray photons, caustic target pixels, point size and line width, each varied
+/// alone from paper-800 (or from `base`, scaled down for tests).
 pub fn scaling(
     device: &Arc<Device>,
     scene: &Scene,
@@ -235,14 +236,32 @@ pub fn scaling(
 ) -> Result<Vec<Series>> {
     type Vary = fn(&mut BenchConfig, f64);
     type Measure = fn(&BenchConfig) -> f64;
+    // The same photons split differently between the coarse grid and the geometry shader's
+    // subdivision: the balance between invocations and the work (and output) of each. The
+    // triangle estimator's geometry shader takes at most 3 (caustics_triangles.geom).
+    let subdivisions = match base.caustic_estimator {
+        CausticEstimator::Triangles => vec![1.0, 2.0, 3.0],
+        _ => vec![1.0, 2.0, 4.0, 8.0],
+    };
     // (name, pass, values, how each value changes the configuration, the work it measures)
-    let sweeps: [(&str, &str, Vec<f64>, Vary, Measure); 5] = [
+    let sweeps: [(&str, &str, Vec<f64>, Vary, Measure); 6] = [
         (
             "caustic photons (millions)",
             "caustics",
             vec![0.5, 1.0, 1.5, 2.0],
             |c, f| c.caustic_grid = (c.caustic_grid as f64 * f).round() as u32,
-            |c| (c.caustic_grid as f64 * c.subdivision as f64).powi(2) / 1e6,
+            |c| (c.caustic_grid as f64 * c.caustic_subdivision.unwrap_or(c.subdivision) as f64).powi(2) / 1e6,
+        ),
+        (
+            "caustic subdivision (photons held)",
+            "caustics",
+            subdivisions,
+            |c, s| {
+                let per_axis = c.caustic_grid * c.caustic_subdivision.unwrap_or(c.subdivision);
+                c.caustic_subdivision = Some(s as u32);
+                c.caustic_grid = (per_axis as f64 / s).round() as u32;
+            },
+            |c| c.caustic_subdivision.unwrap_or(c.subdivision) as f64,
         ),
         (
             "godray photons (millions)",
