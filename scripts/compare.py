@@ -3,6 +3,9 @@
 RMSE sqrt(mean (gpu - ref)^2) / mean ref and the flux error sum gpu / sum ref - 1, over the RGB
 of every pixel; with one file, metrics::gap_fraction of it (zero pixels among those whose
 15x15 mean exceeds a tenth of the mean of the pixels that hold anything, channel sums).
+A GPU buffer smaller than the reference is first upsampled to the reference's size bilinearly
+between texel centres, clamped at the border, as compose samples it: the error of the light
+the final image shows, at the output's resolution when the reference is traced there.
 docs/accuracy.md's step-by-step table and own-size gap fractions:
 
     underlight reference --scene tank --width 320 --height 200 --out out/ref
@@ -42,6 +45,26 @@ def gap_fraction(width, height, channels, values):
     return empty / region if region else 0.0
 
 
+def upsample(w, h, c, values, w2, h2):
+    """values (w x h x c, rows in file order) resampled to w2 x h2 as a bilinear sampler reads it."""
+    def taps(n, n2, i):
+        x = (i + 0.5) * n / n2 - 0.5
+        x0 = math.floor(x)
+        f = x - x0
+        return min(max(x0, 0), n - 1), min(max(x0 + 1, 0), n - 1), f
+    columns = [taps(w, w2, i) for i in range(w2)]
+    out = []
+    for j in range(h2):
+        y0, y1, fy = taps(h, h2, j)
+        for x0, x1, fx in columns:
+            for k in range(c):
+                at = lambda x, y: values[(y * w + x) * c + k]
+                top = at(x0, y0) * (1 - fx) + at(x1, y0) * fx
+                bottom = at(x0, y1) * (1 - fx) + at(x1, y1) * fx
+                out.append(top * (1 - fy) + bottom * fy)
+    return out
+
+
 def main():
     if len(sys.argv) not in (2, 3):
         sys.exit(__doc__)
@@ -50,6 +73,9 @@ def main():
         print("%s: gap fraction %.4f" % (sys.argv[1], gap_fraction(w, h, c, gpu)))
         return
     w2, h2, c2, ref = read_pfm(sys.argv[2])
+    if c == c2 and w <= w2 and h <= h2 and (w, h) != (w2, h2):
+        print("%s: %dx%d upsampled to the reference's %dx%d" % (sys.argv[1], w, h, w2, h2))
+        gpu, w, h = upsample(w, h, c, gpu, w2, h2), w2, h2
     if (w, h, c) != (w2, h2, c2):
         sys.exit("%s is %dx%dx%d, %s is %dx%dx%d" % (sys.argv[1], w, h, c, sys.argv[2], w2, h2, c2))
     mean_ref = sum(ref) / len(ref)

@@ -9,14 +9,17 @@ PNG. docs/accuracy.md's estimator pictures come from it:
     python3 scripts/side_by_side.py docs/x.png out/ref/tank/caustics.pfm out/gpu/tank/caustics.pfm \\
         -- out/ref/port/caustics.pfm out/gpu/port/caustics.pfm
 
-Arguments: [--scale S] the output PNG, then the PFM files of the first row, "--", those of
+Arguments: [--scale S] [--upsample] the output PNG, then the PFM files of the first row, "--", those of
 the next, ... Every image is drawn at S times its size (nearest; 1.5 unless given), with a
-4-pixel grey gutter. docs/godray-methods.png is the godray buffers at --scale 4.5.
+4-pixel grey gutter. docs/godray-methods.png is the godray buffers at --scale 4.5. With
+--upsample, a buffer smaller than its row's first is drawn upsampled to that size as compose
+reads it (bilinear between texel centres; docs/caustic-target-scale.png).
 """
 import struct
 import sys
 import zlib
 
+from compare import upsample
 from pfm import read_pfm
 
 SCALE = 1.5
@@ -54,6 +57,9 @@ def main():
     if len(sys.argv) > 2 and sys.argv[1] == "--scale":
         SCALE = float(sys.argv[2])
         del sys.argv[1:3]
+    upsampled = len(sys.argv) > 1 and sys.argv[1] == "--upsample"
+    if upsampled:
+        del sys.argv[1]
     if len(sys.argv) < 3:
         sys.exit(__doc__)
     out, rest = sys.argv[1], sys.argv[2:]
@@ -66,6 +72,13 @@ def main():
             group.append(arg)
     groups.append(group)
     images = [[read_rows(p) for p in g] for g in groups if g]
+    if upsampled:
+        for row_images in images:
+            w0, h0, _ = row_images[0]
+            for i, (w, h, pixels) in enumerate(row_images):
+                if (w, h) != (w0, h0) and w <= w0 and h <= h0:
+                    flat = upsample(w, h, 1, [v for row in pixels for v in row], w0, h0)
+                    row_images[i] = (w0, h0, [flat[y * w0:(y + 1) * w0] for y in range(h0)])
     columns = max(len(g) for g in images)
     cell_w = max(int(w * SCALE) for g in images for (w, _, _) in g)
     cell_h = max(int(h * SCALE) for g in images for (_, h, _) in g)

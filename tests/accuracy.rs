@@ -25,8 +25,13 @@ const OUTPUT: [u32; 2] = [160, 160];
 /// the same photons, most of them where the camera sees the floor) and light only the side of
 /// a receiver the camera sees. Against a 64M-photon reference it reads 0.956, and the 8M and
 /// 64M references differ by 0.223: the figure is the 100² × 3² mesh's coarseness at the 512²
-/// caustic target, not the reference's noise (200² × 3² reads 0.404).
-const DEFAULT_RMSE_MEASURED: f64 = 0.980;
+/// caustic target, not the reference's noise (200² × 3² reads 0.404). 1.436 since the scenes
+/// draw their caustics at the output's 800² (`caustic_target_scale = 1`), against a reference
+/// traced at that size: 1.381 against a 64M-photon one, from which the 8M one differs by
+/// 0.415. Blurred by 3 px, the 800² and the 512² buffers (upsampled) read the same against it
+/// (0.493 and 0.484); the rest is pixel-scale, where the sharper buffer's fold lines are
+/// sampled at pixel centres (docs/accuracy.md, "Edges").
+const DEFAULT_RMSE_MEASURED: f64 = 1.436;
 
 fn tank() -> Scene {
     underlight::scene::load("tank").unwrap()
@@ -196,7 +201,8 @@ fn photons_spread_for_the_view_lower_the_error_and_keep_the_flux() {
 fn default_settings_error_on_the_tank() {
     // The tank as it ships (800×800, its effects): the bounds are regression guards, stated
     // with what they catch. Energy must be where the reference puts it: measured −0.5 % with
-    // the triangles spread for the view, +0.0 % on the even grid (+4.1 % before its triangles
+    // the triangles spread for the view at the 512² target, −0.0 % at the output's 800², +0.0 %
+    // on the even grid (+4.1 % before its triangles
     // deposited their own flux; +0.3 % with the paper's points over the light's whole window;
     // the reference's own noise in the sum is under 0.1 % with 8M photons). A 5 % bound
     // catches a photon-count normalisation error (the flux scales by the subdivision², 4×),
@@ -208,16 +214,19 @@ fn default_settings_error_on_the_tank() {
     let errors = caustic_figures(&[(format!("tank {}×{} as shipped", scene.output[0], scene.output[1]), scene)]);
     let CausticFigures { rmse, flux, gaps, reference_gaps, holes } = errors[0];
     assert!(flux.abs() < 0.05, "default settings: caustic flux error {flux:+.3}");
-    // Relative RMSE here is mostly the reference's noise (above); the guard is the measured
+    // Relative RMSE here is the mesh's coarseness at the pixel scale and the reference's noise
+    // (above); the guard is the measured
     // figure with 15 % headroom for other drivers' rasterisation, and trips when light lands
     // in the wrong place.
     assert!(rmse < DEFAULT_RMSE_MEASURED * 1.15, "default settings: caustic relative RMSE {rmse:.3}");
     // Gaps. The gap fraction (zero pixels in lit regions, issue 16's figure) counts a hard
     // shadow's border, which the reference leaves dark too: it reads 0.092 for the reference
     // itself. The GPU's must not exceed the reference's (measured 0.083; the paper's points
-    // read 0.22). Against the pixels the reference lights with all their neighbours, the
-    // share the GPU leaves at zero is measured 0.012, on the shelf's front, the rocks' sides
-    // and the floor beside their shadows, where lone photons draw squares; none on the floors.
+    // read 0.22; measured 0.066 against 0.172 since the caustic target is the output's 800²).
+    // Against the pixels the reference lights with all their neighbours, the share the GPU
+    // leaves at zero is measured 0.012 at 512² and 0.017 at 800², on the shelf's front, the
+    // rocks' sides and the floor beside their shadows, where lone photons draw squares; none
+    // on the floors.
     assert!(gaps <= reference_gaps + 0.005, "gap fraction {gaps:.4} against the reference's {reference_gaps:.4}");
     assert!(holes < 0.02, "{:.1} % of the pixels the reference lights hold nothing", 100.0 * holes);
 }

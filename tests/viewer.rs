@@ -56,6 +56,7 @@ fn viewer_sessions_under_xvfb() {
         caustic_photons: ((grid * subdivision) as u64).pow(2),
         iterations: 5,
         caustic_target: [154, 154],
+        caustic_target_scale: 0.64,
         point_size_max: 20.0,
         line_width: 1.0,
         filter: true,

@@ -25,6 +25,8 @@ pub struct SweepRow {
     pub caustic_photons: u64,
     pub iterations: u32,
     pub caustic_target: [u32; 2],
+    /// The scene setting that gave that size (`effects.caustic_target_scale`).
+    pub caustic_target_scale: f32,
     pub point_size_max: f32,
     pub line_width: f32,
     pub filter: bool,
@@ -142,6 +144,7 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
             caustic_photons: ((e.caustic_grid * e.caustic_subdivision) as u64).pow(2),
             iterations: e.iterations,
             caustic_target: extents.caustic,
+            caustic_target_scale: e.caustic_target_scale,
             point_size_max: e.point_size_max,
             line_width: e.line_width,
             filter: e.filter,

@@ -193,6 +193,7 @@ mod tests {
             caustic_photons: 300u64.pow(2),
             iterations: 5,
             caustic_target: [154, 96],
+            caustic_target_scale: 0.64,
             point_size_max: 20.0,
             line_width: 1.0,
             filter: true,

@@ -75,10 +75,12 @@ pub fn nearest_setting<'a>(rows: &'a [SweepRow], scene: &str, effects: &crate::s
         .min_by(|a, b| distance(a).partial_cmp(&distance(b)).unwrap_or(std::cmp::Ordering::Equal))
 }
 
-/// The `[effects]` table of a scene file with the picked setting (what the sweep varied).
+/// The `[effects]` table of a scene file with the picked setting: what the sweep varied, and
+/// the caustic target it was measured at (a block pasted over a scene's `[effects]` must not
+/// change the target under the figures).
 pub fn effects_block(row: &SweepRow) -> String {
     format!(
-        "[effects]\ncaustic_estimator = \"{}\"\ncaustic_grid = {}\ncaustic_subdivision = {}\ncaustic_photon_density = \"{}\"\ngodray_method = \"{}\"\ngodray_photon_density = \"{}\"\niterations = {}\nfilter = {}\n",
+        "[effects]\ncaustic_estimator = \"{}\"\ncaustic_grid = {}\ncaustic_subdivision = {}\ncaustic_photon_density = \"{}\"\ngodray_method = \"{}\"\ngodray_photon_density = \"{}\"\niterations = {}\nfilter = {}\ncaustic_target_scale = {:?}\n",
         row.estimator,
         row.caustic_grid,
         row.caustic_subdivision,
@@ -86,7 +88,8 @@ pub fn effects_block(row: &SweepRow) -> String {
         row.godray_method,
         row.godray_photon_density,
         row.iterations,
-        row.filter
+        row.filter,
+        row.caustic_target_scale
     )
 }
 
@@ -104,6 +107,7 @@ mod tests {
             caustic_photons: ((ms as u64).max(1) * 3).pow(2),
             iterations: 5,
             caustic_target: [1, 1],
+            caustic_target_scale: 1.0,
             point_size_max: 1.0,
             line_width: 1.0,
             filter: true,

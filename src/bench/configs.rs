@@ -85,6 +85,7 @@ pub fn configs() -> Vec<BenchConfig> {
             caustic_estimator: CausticEstimator::Triangles,
             caustic_grid: 100,
             caustic_subdivision: Some(3),
+            caustic_target_scale: Some(1.0),
             paper_fps: "-",
             ..base.clone()
         },
@@ -95,6 +96,7 @@ pub fn configs() -> Vec<BenchConfig> {
             caustic_estimator: CausticEstimator::Triangles,
             caustic_grid: 100,
             caustic_subdivision: Some(3),
+            caustic_target_scale: Some(1.0),
             godray_method: GodrayMethod::Marched,
             paper_fps: "-",
             ..base.clone()

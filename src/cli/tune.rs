@@ -159,6 +159,9 @@ fn write_scene(scene: &str, row: &underlight::accuracy::SweepRow, path: &std::pa
     effects["godray_method"] = toml_edit::value(row.godray_method.clone());
     effects["iterations"] = toml_edit::value(i64::from(row.iterations));
     effects["filter"] = toml_edit::value(row.filter);
+    // As written in the block (0.64, not the f32's 0.6399999856948853 widened).
+    let target_scale: f64 = format!("{:?}", row.caustic_target_scale).parse()?;
+    effects["caustic_target_scale"] = toml_edit::value(target_scale);
     let header = format!(
         "# Written by `underlight tune` from {}: its [effects] set to the setting it picked\n# ({} estimator, {}² × {}² photons). The lines below are the source's.\n",
         source.display(),

@@ -127,6 +127,9 @@ const EFFECTS_COMMENT: &str = "\
 # beat on every built-in scene (docs/accuracy.md); caustic_estimator = \"paper\" restores those.
 # Their photons and the godray beams are spread as the view needs them;
 # caustic_photon_density and godray_photon_density = \"even\" are the paper's even grids.
+# The caustics are drawn at the output's resolution (caustic_target_scale = 1): the triangles'
+# cost does not grow with their target, and a smaller one blurs the caustic network and
+# leaves it soft at every edge (docs/accuracy.md, \"Edges\").
 ";
 
 struct Object {
@@ -212,6 +215,7 @@ impl SceneSpec {
                 caustic_estimator: Some(CausticEstimatorFile::Triangles),
                 caustic_grid: Some(100),
                 caustic_subdivision: Some(3),
+                caustic_target_scale: Some(1.0),
                 caustic_photon_density: Some(PhotonSpreadFile::View),
                 godray_photon_density: Some(PhotonSpreadFile::View),
                 ..EffectsFile::default()
