@@ -1,9 +1,11 @@
-//! Where the caustic photons' flux goes (`underlight render --flux-budget`): of the light's
-//! power through the photon grid, how much lands on a receiver and how much each reason for
-//! dropping a photon costs. Read from the photon records of the geometry shader's recording
-//! pass (`FrameOptions::record_photons`, `glsl/caustics/caustics.geom`), so it is the GPU's own
-//! account, not a model of it.
+//! Where the caustic photons' and the godray beams' flux goes (`underlight render
+//! --flux-budget`): of the light's power through each photon grid, how much lands on a
+//! receiver and how much each reason for dropping a photon costs; for the beams, also how much
+//! of their length the camera's view clips off. Read from the photon records of the geometry
+//! shaders' recording variants (`FrameOptions::record_photons`, `glsl/caustics/caustics.geom`,
+//! `glsl/godrays/godrays.geom`), so it is the GPU's own account, not a model of it.
 
+use glam::{Mat4, Vec3};
 use std::fmt;
 
 /// Why `cast_photon` (glsl/photons/photon_cast.glsl) dropped a photon: the `PHOTON_*` codes, in order.
@@ -80,11 +82,27 @@ pub fn grid_power(u: &crate::frame::uniforms::FrameUniforms) -> Option<f64> {
     })
 }
 
+/// How much of the drawn godray beams the camera's view volume holds, weighted by flux ×
+/// length (W·m: a beam's in-scattered power grows with both, before attenuation).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BeamsInView {
+    pub in_view: f64,
+    pub clipped: f64,
+    /// Drawn beams no part of which is in view (behind the camera, or beside the view).
+    pub wholly_outside: u64,
+}
+
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FluxBudget {
+    /// What was cast: "caustic photons" or "godray beams".
+    pub what: &'static str,
     pub cast: u64,
-    /// Landed photons: count and flux transmitted into the water (after Fresnel).
+    /// Landed photons: count and flux transmitted into the water (after Fresnel). For the
+    /// beams, those drawn whose image-space iteration converged.
     pub landed: Share,
+    /// Beams drawn although their iteration did not converge (a beam keeps its photon there:
+    /// its line is right up to the last few centimetres). None for caustic photons.
+    pub landed_unconverged: Share,
     /// Per reason, in `DropReason::ALL` order: the flux the photons carried towards the water.
     pub dropped: [Share; 9],
     /// Records whose code is none of the above (a shader and this module out of step).
@@ -93,16 +111,20 @@ pub struct FluxBudget {
     /// directional light: E⊥ × the window's area); the landed photons' Fresnel reflection is
     /// what it leaves unaccounted.
     pub light_power: Option<f64>,
+    /// The beams' share in the camera's view; None for caustic photons.
+    pub view: Option<BeamsInView>,
 }
 
 impl FluxBudget {
     /// From the records `CausticsPass::read_photon_records` returns: two per photon.
     pub fn from_records(records: &[[f32; 4]]) -> Self {
-        let mut budget = FluxBudget::default();
+        let mut budget = FluxBudget { what: "caustic photons", ..Default::default() };
         for pair in records.chunks_exact(2) {
             let (code, flux) = (pair[0][3], pair[1][3] as f64);
             budget.cast += 1;
-            if code > 0.5 {
+            if code > 1.5 {
+                budget.landed_unconverged.add(flux);
+            } else if code > 0.5 {
                 budget.landed.add(flux);
             } else {
                 match DropReason::from_code(-code) {
@@ -114,37 +136,105 @@ impl FluxBudget {
         budget
     }
 
+    /// From the records `GodraysPass::read_photon_records` returns (two per beam), and the
+    /// camera whose view clips the beams (`FrameUniforms::camera_view_proj`).
+    pub fn from_beam_records(records: &[[f32; 4]], camera_view_proj: Mat4) -> Self {
+        let mut budget = Self::from_records(records);
+        budget.what = "godray beams";
+        let mut view = BeamsInView::default();
+        for pair in records.chunks_exact(2) {
+            if pair[0][3] < 0.5 {
+                continue; // dropped: no line
+            }
+            let (hit, surface) = (Vec3::from_slice(&pair[0][..3]), Vec3::from_slice(&pair[1][..3]));
+            let weight = pair[1][3] as f64 * surface.distance(hit) as f64;
+            let inside = fraction_in_view(camera_view_proj, surface, hit) as f64;
+            view.in_view += weight * inside;
+            view.clipped += weight * (1.0 - inside);
+            view.wholly_outside += (inside == 0.0) as u64;
+        }
+        budget.view = Some(view);
+        budget
+    }
+
     /// Flux of all dropped photons, W.
     pub fn dropped_watts(&self) -> f64 {
         self.dropped.iter().map(|s| s.watts).sum()
     }
+
+    /// Flux of all landed (or drawn) photons, W.
+    pub fn landed_watts(&self) -> f64 {
+        self.landed.watts + self.landed_unconverged.watts
+    }
+}
+
+/// The share of the segment a → b (world space) inside the camera's view volume: clip space
+/// −w ≤ x, y ≤ w and 0 ≤ z ≤ w (Vulkan's depth range). Clip coordinates are linear in the
+/// segment's parameter, so each bound cuts it at one parameter (Liang–Barsky), and the share
+/// of the parameter is the share of the world length.
+pub fn fraction_in_view(view_proj: Mat4, a: Vec3, b: Vec3) -> f32 {
+    let (ca, cb) = (view_proj * a.extend(1.0), view_proj * b.extend(1.0));
+    // Each bound as f(t) = f0 + t·(f1 − f0) ≥ 0.
+    let bounds = [
+        (ca.w + ca.x, cb.w + cb.x),
+        (ca.w - ca.x, cb.w - cb.x),
+        (ca.w + ca.y, cb.w + cb.y),
+        (ca.w - ca.y, cb.w - cb.y),
+        (ca.z, cb.z),
+        (ca.w - ca.z, cb.w - cb.z),
+    ];
+    let (mut t0, mut t1) = (0.0f32, 1.0f32);
+    for (f0, f1) in bounds {
+        if f0 < 0.0 && f1 < 0.0 {
+            return 0.0;
+        }
+        if f0 < 0.0 {
+            t0 = t0.max(f0 / (f0 - f1));
+        } else if f1 < 0.0 {
+            t1 = t1.min(f0 / (f0 - f1));
+        }
+    }
+    (t1 - t0).max(0.0)
 }
 
 impl fmt::Display for FluxBudget {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let total = self.light_power.unwrap_or(self.landed.watts + self.dropped_watts());
+        let total = self.light_power.unwrap_or(self.landed_watts() + self.dropped_watts());
         let pct = |w: f64| if total > 0.0 { 100.0 * w / total } else { 0.0 };
-        writeln!(f, "{:<44} {:>10} {:>12} {:>7}", "caustic photons", "photons", "W", "%")?;
+        let (count, landed_ones) =
+            if self.view.is_some() { ("beams", "drawn beams") } else { ("photons", "landed photons") };
+        writeln!(f, "{:<44} {:>10} {:>12} {:>7}", self.what, count, "W", "%")?;
         writeln!(f, "{:<44} {:>10} {:>12.5}", "cast (the light's power through the grid)", self.cast, total)?;
         if let Some(power) = self.light_power {
-            let reflected = power - self.landed.watts - self.dropped_watts();
+            let reflected = power - self.landed_watts() - self.dropped_watts();
             writeln!(
                 f,
                 "{:<44} {:>10} {:>12.5} {:>6.2}%",
-                "reflected at the surface (landed photons)",
+                format!("reflected at the surface ({landed_ones})"),
                 "",
                 reflected,
                 pct(reflected)
             )?;
         }
+        let landed = if self.view.is_some() { "drawn (transmitted flux)" } else { "landed (transmitted flux)" };
         writeln!(
             f,
             "{:<44} {:>10} {:>12.5} {:>6.2}%",
-            "landed (transmitted flux)",
+            landed,
             self.landed.photons,
             self.landed.watts,
             pct(self.landed.watts)
         )?;
+        if self.landed_unconverged.photons > 0 {
+            writeln!(
+                f,
+                "{:<44} {:>10} {:>12.5} {:>6.2}%",
+                "drawn although the iteration did not converge",
+                self.landed_unconverged.photons,
+                self.landed_unconverged.watts,
+                pct(self.landed_unconverged.watts)
+            )?;
+        }
         for (reason, share) in DropReason::ALL.iter().zip(&self.dropped) {
             if share.photons > 0 {
                 writeln!(
@@ -159,6 +249,17 @@ impl fmt::Display for FluxBudget {
         }
         if self.unknown > 0 {
             writeln!(f, "{:<44} {:>10}", "records with an unknown code", self.unknown)?;
+        }
+        if let Some(v) = self.view {
+            let weight = v.in_view + v.clipped;
+            let share = |x: f64| if weight > 0.0 { 100.0 * x / weight } else { 0.0 };
+            writeln!(
+                f,
+                "of the drawn beams' flux × length: {:.2} % in the camera's view, {:.2} % clipped off by it; {} beams wholly outside it",
+                share(v.in_view),
+                share(v.clipped),
+                v.wholly_outside
+            )?;
         }
         Ok(())
     }
@@ -180,5 +281,40 @@ mod tests {
         assert_eq!(b.dropped[DropReason::OutsideWater as usize - 1], Share { photons: 1, watts: 0.25 });
         assert_eq!(b.unknown, 1);
         assert!(b.to_string().contains("image-space iteration does not converge"));
+    }
+
+    #[test]
+    fn the_view_clips_a_beam_by_its_length() {
+        // Looking down −z from the origin, 90° field of view, near 0.1, far 100.
+        let view_proj = glam::camera::rh::proj::vulkan::perspective(std::f32::consts::FRAC_PI_2, 1.0, 0.1, 100.0);
+        let inside = |a: [f32; 3], b: [f32; 3]| fraction_in_view(view_proj, Vec3::from(a), Vec3::from(b));
+        assert!((inside([0.0, 0.0, -1.0], [0.0, 0.0, -5.0]) - 1.0).abs() < 1e-6, "wholly in view");
+        // Along x at depth 2 the view spans x ∈ [−2, 2]: half of [0, 4] is in it.
+        assert!((inside([0.0, 0.0, -2.0], [4.0, 0.0, -2.0]) - 0.5).abs() < 1e-5);
+        // From behind the camera to in front of it: cut at the near plane.
+        assert!((inside([0.0, 0.0, 1.0], [0.0, 0.0, -1.0]) - 0.45).abs() < 1e-5);
+        assert_eq!(inside([0.0, 0.0, 1.0], [0.0, 0.0, 3.0]), 0.0, "wholly behind");
+        assert_eq!(inside([5.0, 0.0, -1.0], [5.0, 0.0, -2.0]), 0.0, "wholly beside");
+    }
+
+    #[test]
+    fn beams_count_their_fates_and_their_length_in_view() {
+        let view_proj = glam::camera::rh::proj::vulkan::perspective(std::f32::consts::FRAC_PI_2, 1.0, 0.1, 100.0);
+        let beam = |fate: f32, surface: [f32; 3], hit: [f32; 3], flux: f32| {
+            [[hit[0], hit[1], hit[2], fate], [surface[0], surface[1], surface[2], flux]]
+        };
+        let records: Vec<[f32; 4]> = [
+            beam(1.0, [0.0, 0.0, -1.0], [0.0, 0.0, -3.0], 1.0),  // 2 m in view
+            beam(2.0, [0.0, 0.0, -2.0], [4.0, 0.0, -2.0], 0.5),  // 4 m, half in view; unconverged
+            beam(-7.0, [0.0, 0.0, -1.0], [0.0, 0.0, -9.0], 2.0), // dropped: no line
+        ]
+        .concat();
+        let b = FluxBudget::from_beam_records(&records, view_proj);
+        assert_eq!((b.cast, b.landed.photons, b.landed_unconverged.photons), (3, 1, 1));
+        let v = b.view.unwrap();
+        assert!((v.in_view - (2.0 + 1.0)).abs() < 1e-4 && (v.clipped - 1.0).abs() < 1e-4, "{v:?}");
+        assert_eq!(v.wholly_outside, 0);
+        let text = b.to_string();
+        assert!(text.starts_with("godray beams") && text.contains("drawn although"), "{text}");
     }
 }

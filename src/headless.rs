@@ -50,6 +50,8 @@ pub struct SceneImages {
     pub light_normals: Option<HdrImage>,
     /// With photon recording: per caustic photon, (hit, landed) and (surface, flux).
     pub photon_records: Option<Vec<[f32; 4]>>,
+    /// With photon recording and godray beams: per beam, (hit, fate) and (surface, flux).
+    pub beam_records: Option<Vec<[f32; 4]>>,
 }
 
 impl SceneImages {
@@ -184,6 +186,7 @@ impl SceneRenderer {
             light_positions: self.light_maps.as_ref().map(|[p, _]| p.read()).transpose()?,
             light_normals: self.light_maps.as_ref().map(|[_, n]| n.read()).transpose()?,
             photon_records: self.frame.caustics.as_ref().and_then(|c| c.read_photon_records()),
+            beam_records: self.frame.godrays.as_ref().and_then(|g| g.read_photon_records()),
         };
         Ok((timings, Some(images)))
     }

@@ -70,6 +70,8 @@ pub struct Variant {
 pub const VARIANTS: &[Variant] = &[
     // Every photon's cast recorded for the tests (glsl/caustics/caustics.geom).
     Variant { name: "caustics_debug.geom", source: "caustics/caustics.geom", defines: &["PHOTON_DEBUG"] },
+    // Every godray beam's cast recorded for the flux budget (glsl/godrays/godrays.geom).
+    Variant { name: "godrays_debug.geom", source: "godrays/godrays.geom", defines: &["PHOTON_DEBUG"] },
     // The reflection pass writes colour only (glsl/scene/scene.frag).
     Variant { name: "reflection.frag", source: "scene/scene.frag", defines: &["COLOR_ONLY"] },
     // Compose binds only the effects a scene has (glsl/compose/compose.frag).

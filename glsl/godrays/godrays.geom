@@ -1,8 +1,19 @@
 #version 450
 // Godrays (method step 6): the same photon casting on the godray grid, each photon that
 // reaches a receiver emitted as a line from where it entered the water to where it lands.
+// Compiled twice (shaders::VARIANTS): as godrays.geom, and as godrays_debug.geom with
+// PHOTON_DEBUG, which records every beam's cast for the flux budget (src/flux_budget.rs).
 #define PHOTON_BEAMS
 #include "../photons/photon_cast.glsl"
+
+#ifdef PHOTON_DEBUG
+// Per beam, two records: (hit, its fate: 1 drawn, 2 drawn although the image-space iteration
+// did not converge, −PHOTON_<reason> of photon_cast.glsl when dropped), and (surface point,
+// flux: transmitted if drawn, else what it carried towards the water).
+layout(set = 0, binding = BINDING_PHOTON_DEBUG, std430) writeonly buffer PhotonDebug {
+    vec4 records[];
+} photon_debug;
+#endif
 
 layout(points) in;
 // 2 vertices × GODRAY_MAX_SUBDIVISION² photons; each vertex carries 12 components (3 vec4s), so
@@ -25,7 +36,14 @@ void main() {
         for (uint i = 0; i < SUBDIVISION; ++i) {
             vec2 uv = photon_grid_uv(v_cell[0], uvec2(i, j), SUBDIVISION, uvec2(pc.grid));
             Photon ph;
-            if (!cast_photon(uv, photons_per_axis, ph)) continue;
+            bool landed = cast_photon(uv, photons_per_axis, ph);
+#ifdef PHOTON_DEBUG
+            uint index = ((v_cell[0].y * pc.grid + v_cell[0].x) * SUBDIVISION + j) * SUBDIVISION + i;
+            float fate = landed ? (photon_fate == PHOTON_NOT_CONVERGED ? 2.0 : 1.0) : -float(photon_fate);
+            photon_debug.records[2 * index] = vec4(ph.hit, fate);
+            photon_debug.records[2 * index + 1] = vec4(ph.surface, ph.flux);
+#endif
+            if (!landed) continue;
             vec4 a = frame.camera_view_proj * vec4(ph.surface, 1.0);
             vec4 b = frame.camera_view_proj * vec4(ph.hit, 1.0);
             // Lines crossing the camera plane would need clipping against it in world space;

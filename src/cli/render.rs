@@ -40,7 +40,8 @@ pub(super) struct SceneArgs {
     #[arg(long)]
     explain: bool,
     /// Also render one frame recording every caustic photon (the paper's points, the same
-    /// photons) and print where their flux goes: landed, reflected, dropped by reason.
+    /// photons) and every godray beam, and print where their flux goes: landed (drawn),
+    /// reflected, dropped by reason; for the beams, the share of their length in view.
     #[arg(long)]
     flux_budget: bool,
     /// Put the camera here instead of the scene's position, e.g. `0.3,1.5,0.2` (above the
@@ -190,25 +191,41 @@ pub(super) fn run(cli: &Cli, args: &SceneArgs) -> Result<i32> {
     Ok(finish(ctx))
 }
 
-/// `render --flux-budget`: one frame through the photon-recording geometry shader (the
-/// paper's points: recording is theirs, and the photons are the same for every estimator).
+/// `render --flux-budget`: one frame through the photon-recording geometry shaders: the
+/// caustic photons (through the paper's points: recording is theirs, and the photons are the
+/// same for every estimator) and the godray beams.
 fn print_flux_budget(ctx: &Context, scene: &underlight::scene::Scene, extent: vk::Extent2D, time: f32) -> Result<()> {
+    use underlight::flux_budget::{grid_power, FluxBudget};
     let mut recorded = scene.clone();
     recorded.effects.caustic_estimator = underlight::scene::CausticEstimator::Paper;
-    if !recorded.effects.caustics || !ctx.device.has_pipeline_stores() {
-        bail!("--flux-budget needs caustics and a device with vertexPipelineStoresAndAtomics");
+    let e = &recorded.effects;
+    let beams = e.godrays && e.godray_method == underlight::scene::GodrayMethod::Beams;
+    if !(e.caustics || beams) || !ctx.device.has_pipeline_stores() {
+        bail!("--flux-budget needs caustics or godray beams, and a device with vertexPipelineStoresAndAtomics");
     }
     let options = underlight::frame::FrameOptions { record_photons: true, ..Default::default() };
     let mut renderer = headless::SceneRenderer::with_options(&ctx.device, &recorded, extent, options)?;
     let extents = renderer.frame.extents;
     let (_, images) = renderer.render(1, time, 0.0, true)?;
     drop(renderer);
-    let Some(records) = images.and_then(|i| i.photon_records) else {
-        bail!("--flux-budget: the caustics pass did not run, so no photon was recorded");
-    };
-    let mut budget = underlight::flux_budget::FluxBudget::from_records(&records);
+    let images = images.expect("read back requested");
     let u = underlight::frame::uniforms::FrameUniforms::new(&recorded, recorded.bounds(), &extents, time);
-    budget.light_power = underlight::flux_budget::grid_power(&u);
-    println!("\nflux budget at t = {time} s:\n{budget}");
+    println!("\nflux budget at t = {time} s:");
+    let mut printed = false;
+    if let Some(records) = &images.photon_records {
+        let mut budget = FluxBudget::from_records(records);
+        budget.light_power = grid_power(&u);
+        println!("{budget}");
+        printed = true;
+    }
+    if let Some(records) = &images.beam_records {
+        let mut budget = FluxBudget::from_beam_records(records, glam::Mat4::from_cols_array_2d(&u.camera_view_proj));
+        budget.light_power = grid_power(&u);
+        println!("{budget}");
+        printed = true;
+    }
+    if !printed {
+        bail!("--flux-budget: neither photon pass ran, so no photon was recorded");
+    }
     Ok(())
 }

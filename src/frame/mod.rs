@@ -317,8 +317,8 @@ pub fn device_clamps(scene: &Scene, plan: &FramePlan, device: &Device) -> Vec<St
 /// Switches that change what a frame records, for tests and debugging.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct FrameOptions {
-    /// The caustics pass writes every photon's cast to a host-visible buffer (needs
-    /// vertexPipelineStoresAndAtomics).
+    /// The caustics pass writes every photon's cast, and the godray beams' pass every beam's,
+    /// to a host-visible buffer (needs vertexPipelineStoresAndAtomics).
     pub record_photons: bool,
     /// How photons are generated and splatted (the geometry shader, or a peer it is measured
     /// against).
@@ -452,15 +452,7 @@ impl Frame {
                     message: "\"marched\" needs a directional light: it takes the light through flat water along one refracted direction".into(),
                 });
             }
-            Some(GodraysPass::new(
-                device,
-                ext,
-                e.godray_grid,
-                e.godray_subdivision,
-                e.line_width,
-                e.godray_method,
-                options.photon_path,
-            )?)
+            Some(GodraysPass::new(device, ext, e, options.photon_path, options.record_photons)?)
         } else {
             None
         };
