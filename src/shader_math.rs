@@ -199,10 +199,16 @@ pub fn water_covers(w: &WaterParams, xz: Vec2) -> bool {
     xz.cmpge(w.extent_min).all() && xz.cmple(w.extent_max).all()
 }
 
-/// GLSL `WATER_MAX_MARCH_STEPS`, `WATER_REFINE_STEPS` and `WATER_NOISE_FEATURE`.
+/// GLSL `WATER_MAX_MARCH_STEPS`, `WATER_REFINE_STEPS`, `WATER_REFINE_RESIDUAL` and
+/// `WATER_NOISE_FEATURE`.
 pub const WATER_MAX_MARCH_STEPS: u32 = 64;
 pub const WATER_REFINE_STEPS: u32 = 8;
+pub const WATER_REFINE_RESIDUAL: f32 = 1e-4;
 pub const WATER_NOISE_FEATURE: f32 = 1.0 / 16.0;
+
+/// GLSL `ITERATION_RESIDUAL` (photon_cast.glsl): the image-space iteration stops at this
+/// residual per metre of distance.
+pub const ITERATION_RESIDUAL: f32 = 1e-5;
 
 /// GLSL `water_height_above_surface`.
 fn water_height_above_surface(w: &WaterParams, noise: &NoiseTexture, o: Vec3, d: Vec3, t: f32, time: f32) -> f32 {
@@ -261,6 +267,9 @@ pub fn water_intersect(w: &WaterParams, noise: &NoiseTexture, o: Vec3, d: Vec3, 
         let ft = f(t);
         if ft.abs() < best_f {
             (best_t, best_f) = (t, ft.abs());
+        }
+        if best_f <= WATER_REFINE_RESIDUAL * bound {
+            return best_t; // near enough the surface (see the GLSL)
         }
         if ft > 0.0 {
             (ta, fa) = (t, ft);
@@ -608,6 +617,9 @@ impl PhotonCaster<'_> {
                 break;
             }
             let g = (Vec3::new(r[0], r[1], r[2]) - ps).length() - dist;
+            if g.abs() <= ITERATION_RESIDUAL * dist.max(1.0) {
+                break; // at the fixed point (photon_cast.glsl)
+            }
             let mut next = dist + g;
             if let Some((d0, g0)) = previous {
                 if (g - g0).abs() > 1e-6 * dist.max(1.0) {

@@ -121,6 +121,10 @@ void onto_receiver_plane(vec3 ps, vec3 rt, vec3 receiver, vec3 receiver_normal, 
     }
 }
 
+// The image-space iteration stops once its residual is this small a share of the distance
+// (Rust twin: shader_math::ITERATION_RESIDUAL).
+const float ITERATION_RESIDUAL = 1e-5;
+
 // Why cast_photon dropped its photon (PHOTON_LANDED when it did not), for the flux budget
 // (`render --flux-budget`, src/flux_budget.rs, whose `DropReason` lists the same codes).
 const int PHOTON_LANDED = 0;
@@ -228,6 +232,10 @@ bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
             break;
         }
         float g = length(r.xyz - ps) - dist;
+        // At the fixed point already (within 10 µm per metre): a further step would move the
+        // estimate by g and fetch the same texel again. Stopping saves the remaining fetches
+        // wherever the whole SIMD group has converged.
+        if (abs(g) <= ITERATION_RESIDUAL * max(dist, 1.0)) break;
         float next = dist + g;
         if (have_prev && abs(g - prev_g) > 1e-6 * max(dist, 1.0)) {
             next = dist - g * (dist - prev_dist) / (g - prev_g);
