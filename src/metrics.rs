@@ -253,6 +253,20 @@ pub fn sample_bilinear(image: &HdrImage, u: f32, v: f32) -> [f32; 4] {
     std::array::from_fn(|i| (a[i] * (1.0 - fx) + b[i] * fx) * (1.0 - fy) + (c[i] * (1.0 - fx) + d[i] * fx) * fy)
 }
 
+/// `image` resampled to width × height as compose reads an effect buffer: bilinearly between
+/// texel centres, clamped at the border (`sample_bilinear`). Used to measure a buffer smaller
+/// than the output against a reference traced at the output's size.
+pub fn upsampled(image: &HdrImage, width: u32, height: u32) -> HdrImage {
+    let mut pixels = Vec::with_capacity((width * height) as usize);
+    for y in 0..height {
+        for x in 0..width {
+            let (u, v) = ((x as f32 + 0.5) / width as f32, (y as f32 + 0.5) / height as f32);
+            pixels.push(sample_bilinear(image, u, v));
+        }
+    }
+    HdrImage { width, height, pixels }
+}
+
 /// The final image, 8-bit sRGB RGB, as compose.frag makes it: scene colour + caustic
 /// irradiance × albedo/π × transmittance + godray radiance (both upsampled bilinearly), then
 /// `1 − e^(−exposure·L)`. FLIP compares two images composed here, one with the GPU's photon
@@ -301,6 +315,16 @@ pub fn flip(reference_rgb: &[u8], test_rgb: &[u8], width: u32, height: u32) -> R
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn upsampling_reads_between_texel_centres_as_compose_does() {
+        let image = HdrImage { width: 2, height: 1, pixels: vec![[0.0; 4], [1.0; 4]] };
+        let wide = upsampled(&image, 4, 1);
+        let red: Vec<f32> = wide.pixels.iter().map(|p| p[0]).collect();
+        // Output centres at 1/8, 3/8, 5/8, 7/8 fall at texel coordinates −¼ (clamped), ¼, ¾
+        // and 1¼ (clamped).
+        assert_eq!(red, [0.0, 0.25, 0.75, 1.0]);
+    }
 
     fn image(w: u32, h: u32, f: impl Fn(u32, u32) -> f32) -> HdrImage {
         let pixels = (0..h).flat_map(|y| (0..w).map(move |x| (x, y))).map(|(x, y)| [f(x, y); 4]).collect();

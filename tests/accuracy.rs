@@ -236,7 +236,7 @@ fn sweep_writes_csv_table_and_pareto_plot() {
     let out = cache_dir("sweep");
     let status = Command::new(env!("CARGO_BIN_EXE_underlight"))
         .args(["sweep", "--scene", "tank", "--width", "64", "--height", "40", "--grid", "16,48", "--filter", "off,on"])
-        .args(["--frames", "1", "--warmup", "0", "--photons", "300000", "--beams", "30000"])
+        .args(["--target", "0.5,1", "--frames", "1", "--warmup", "0", "--photons", "300000", "--beams", "30000"])
         .args(["--out", out.to_str().unwrap(), "--cache", out.join("cache").to_str().unwrap()])
         .output()
         .unwrap();
@@ -244,12 +244,28 @@ fn sweep_writes_csv_table_and_pareto_plot() {
     assert!(status.status.success(), "sweep failed:\n{text}");
     let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
     let rows: Vec<&str> = csv.lines().skip(1).collect();
-    assert_eq!(rows.len(), 4, "2 grids × filter off/on:\n{csv}");
+    assert_eq!(rows.len(), 8, "2 grids × filter off/on × 2 caustic targets:\n{csv}");
     let on_front = rows.iter().filter(|r| r.ends_with(",true")).count();
     assert!(on_front >= 1, "no setting on the Pareto front:\n{csv}");
     for row in &rows {
         let fields: Vec<f64> = row.split(',').filter_map(|f| f.parse().ok()).collect();
         assert!(fields.iter().all(|v| v.is_finite()), "{row}");
+    }
+    // The caustic error at the output: the buffer's own where the target is the output's;
+    // where it is half, the upsampled buffer against a reference traced at 64×40, which a
+    // blurred buffer cannot match as it matches the reference at its own size.
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let column = |name: &str| header.iter().position(|h| *h == name).unwrap_or_else(|| panic!("no {name} column"));
+    let (width, own, at_output) =
+        (column("caustic_target_w"), column("caustic_rel_rmse"), column("caustic_rel_rmse_at_output"));
+    for row in &rows {
+        let f: Vec<&str> = row.split(',').collect();
+        let (own, at_output): (f64, f64) = (f[own].parse().unwrap(), f[at_output].parse().unwrap());
+        match f[width] {
+            "64" => assert_eq!(own, at_output, "{row}"),
+            "32" => assert!(at_output > own, "the upsampled buffer's error {at_output} ≤ its own {own}: {row}"),
+            other => panic!("caustic target width {other}: {row}"),
+        }
     }
     let png = std::fs::read(out.join("sweep.png")).unwrap();
     assert!(png.starts_with(b"\x89PNG") && png.len() > 10_000, "the plot is not a drawn PNG ({} bytes)", png.len());

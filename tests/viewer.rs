@@ -68,6 +68,7 @@ fn viewer_sessions_under_xvfb() {
         effect_ms: 1.0,
         frame_ms: 1.0,
         caustics: Some(underlight::metrics::BufferError { relative_rmse: caustic, ..Default::default() }),
+        caustics_at_output: None,
         godrays: Some(underlight::metrics::BufferError { relative_rmse: 0.098, ..Default::default() }),
         flip: 0.1,
         caustic_change_gpu: 1.0,

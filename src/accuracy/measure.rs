@@ -4,11 +4,11 @@
 use super::configs::SweepSpec;
 use super::reference_cache::cached_reference;
 use super::report::mark_pareto;
-use crate::frame::uniforms::FrameUniforms;
+use crate::frame::uniforms::{FrameExtents, FrameUniforms};
 use crate::frame::FrameOptions;
 use crate::headless::{median_timings, SceneRenderer};
 use crate::image_io::HdrImage;
-use crate::metrics::{buffer_error, compose_srgb8, flip, frame_change, BufferError};
+use crate::metrics::{buffer_error, compose_srgb8, flip, frame_change, upsampled, BufferError};
 use crate::passes::PassId;
 use crate::vk::device::Device;
 use crate::vk::vk;
@@ -46,6 +46,12 @@ pub struct SweepRow {
     /// Median GPU ms of the whole frame (all passes).
     pub frame_ms: f64,
     pub caustics: Option<BufferError>,
+    /// The caustic buffer upsampled to the output as compose reads it, against a reference
+    /// traced at the output's size: the error of the light the image shows, comparable
+    /// between caustic target sizes (`caustics` is taken at each row's own target size).
+    /// Sweeps written before it existed have none.
+    #[serde(default)]
+    pub caustics_at_output: Option<BufferError>,
     pub godrays: Option<BufferError>,
     /// Mean FLIP of the final image composed with the GPU's buffers against the one composed
     /// with the reference's.
@@ -53,7 +59,8 @@ pub struct SweepRow {
     /// Frame-to-frame change of the caustic buffer over one time step: GPU and reference.
     pub caustic_change_gpu: f64,
     pub caustic_change_reference: f64,
-    /// On the Pareto front of caustic relative RMSE against effect_ms.
+    /// On the Pareto front of `report::ranked_error` (the caustic error at the output)
+    /// against effect_ms.
     pub pareto: bool,
 }
 
@@ -133,6 +140,18 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
             images.width,
             images.height,
         )?;
+        // At the output's size: the same buffer where the target is the output's, else the
+        // buffer upsampled against a reference traced there (cached like the other).
+        let caustics_at_output = match gpu_c {
+            Some(g) if extents.caustic == extents.output => error(Some(g), &reference.caustics)?,
+            Some(g) => {
+                let at_output = FrameExtents { caustic: extents.output, ..extents };
+                let r = cached_reference(scene, spec.time, &at_output, &spec.reference, &spec.cache_dir)?;
+                let [w, h] = extents.output;
+                error(Some(&upsampled(g, w, h)), &r.caustics)?
+            }
+            None => None,
+        };
         let change = |a: Option<&HdrImage>, b: Option<&HdrImage>| match (a, b) {
             (Some(a), Some(b)) => frame_change(a, b),
             _ => Ok(0.0),
@@ -155,6 +174,7 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
             effect_ms,
             frame_ms,
             caustics: error(gpu_c, &reference.caustics)?,
+            caustics_at_output,
             godrays: error(gpu_g, &reference.godrays)?,
             flip,
             caustic_change_gpu: change(gpu_c, shown(&next.caustics_filtered, &next.caustics))?,

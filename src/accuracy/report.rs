@@ -6,9 +6,11 @@ use crate::metrics::BufferError;
 use anyhow::{bail, Result};
 use std::path::Path;
 
-/// The error a row is ranked by: caustic relative RMSE, else godray's.
+/// The error a row is ranked by: the caustic relative RMSE at the output's size (the light
+/// the image shows, comparable between caustic target sizes), else at the target's (rows
+/// read from sweeps written before), else the godrays'.
 pub fn ranked_error(row: &SweepRow) -> f64 {
-    row.caustics.or(row.godrays).map(|e| e.relative_rmse).unwrap_or(f64::NAN)
+    row.caustics_at_output.or(row.caustics).or(row.godrays).map(|e| e.relative_rmse).unwrap_or(f64::NAN)
 }
 
 /// A row is on the front when no other row is at least as fast and at least as accurate,
@@ -26,7 +28,8 @@ pub fn csv(rows: &[SweepRow]) -> String {
     let mut s = String::from(
         "estimator,godray_method,caustic_grid,caustic_subdivision,caustic_photons,photon_density,godray_photon_density,iterations,caustic_target_w,caustic_target_h,point_size_max,\
          line_width,filter,effect_ms,frame_ms,caustic_rel_rmse,caustic_mean_rel_error,caustic_flux_error,\
-         godray_rel_rmse,godray_mean_rel_error,godray_flux_error,flip,caustic_change_gpu,caustic_change_reference,pareto\n",
+         godray_rel_rmse,godray_mean_rel_error,godray_flux_error,flip,caustic_change_gpu,caustic_change_reference,\
+         caustic_rel_rmse_at_output,caustic_flux_error_at_output,pareto\n",
     );
     let opt = |e: Option<BufferError>| match e {
         Some(e) => format!("{:.5},{:.5},{:.5}", e.relative_rmse, e.mean_relative_error, e.flux_error),
@@ -34,7 +37,7 @@ pub fn csv(rows: &[SweepRow]) -> String {
     };
     for r in rows {
         s += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{},{},{:.5},{:.5},{:.5},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{},{},{:.5},{:.5},{:.5},{},{}\n",
             r.estimator,
             r.godray_method,
             r.caustic_grid,
@@ -55,6 +58,7 @@ pub fn csv(rows: &[SweepRow]) -> String {
             r.flip,
             r.caustic_change_gpu,
             r.caustic_change_reference,
+            r.caustics_at_output.map(|e| format!("{:.5},{:.5}", e.relative_rmse, e.flux_error)).unwrap_or(",".into()),
             r.pareto
         );
     }
@@ -64,14 +68,14 @@ pub fn csv(rows: &[SweepRow]) -> String {
 /// A table for the terminal and docs (Markdown).
 pub fn table(rows: &[SweepRow]) -> String {
     let mut s = String::from(
-        "| estimator | godrays | photons | iter | target | points ≤ | filter | effect ms | caustic rel RMSE | flux err | godray rel RMSE | FLIP | change GPU / ref | front |\n\
-         | --- | --- | ---: | ---: | --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | --- | --- |\n",
+        "| estimator | godrays | photons | iter | target | points ≤ | filter | effect ms | caustic rel RMSE | flux err | at the output | godray rel RMSE | FLIP | change GPU / ref | front |\n\
+         | --- | --- | ---: | ---: | --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | --- | --- |\n",
     );
     for r in rows {
         let c = r.caustics.map(|e| (format!("{:.3}", e.relative_rmse), format!("{:+.1} %", 100.0 * e.flux_error)));
         let (c_rmse, c_flux) = c.unwrap_or(("–".into(), "–".into()));
         s += &format!(
-            "| {} | {} | {}² × {}²{} | {} | {}×{} | {} | {} | {:.1} | {} | {} | {} | {:.3} | {:.3} / {:.3} | {} |\n",
+            "| {} | {} | {}² × {}²{} | {} | {}×{} | {} | {} | {:.1} | {} | {} | {} | {} | {:.3} | {:.3} / {:.3} | {} |\n",
             r.estimator,
             if r.godray_photon_density == "even" {
                 r.godray_method.clone()
@@ -89,6 +93,7 @@ pub fn table(rows: &[SweepRow]) -> String {
             r.effect_ms,
             c_rmse,
             c_flux,
+            r.caustics_at_output.map(|e| format!("{:.3}", e.relative_rmse)).unwrap_or("–".into()),
             r.godrays.map(|e| format!("{:.3}", e.relative_rmse)).unwrap_or("–".into()),
             r.flip,
             r.caustic_change_gpu,
@@ -123,7 +128,7 @@ pub fn plot(rows: &[SweepRow], title: &str, path: &Path) -> Result<()> {
     chart
         .configure_mesh()
         .x_desc("GPU ms per frame (shadow + caustics + godrays + filter)")
-        .y_desc("caustic relative RMSE vs reference")
+        .y_desc("caustic relative RMSE at the output vs reference")
         .label_style(("sans-serif", 15))
         .draw()
         .map_err(|e| draw(&e))?;
@@ -204,6 +209,7 @@ mod tests {
             effect_ms: 1.0,
             frame_ms: 2.0,
             caustics: e,
+            caustics_at_output: e,
             godrays: e,
             flip: 0.1,
             caustic_change_gpu: 0.2,

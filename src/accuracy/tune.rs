@@ -118,6 +118,7 @@ mod tests {
             effect_ms: ms,
             frame_ms: ms,
             caustics: e(caustic),
+            caustics_at_output: e(caustic),
             godrays: e(godray),
             flip: 0.0,
             caustic_change_gpu: 0.0,
