@@ -92,6 +92,15 @@ pub struct BeamsInView {
     pub wholly_outside: u64,
 }
 
+/// Where the landed caustic photons' flux fell for the camera (`FluxBudget::seen_by`): on a
+/// receiver it sees, on one hidden behind the scene, or outside its view volume.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PhotonsSeen {
+    pub visible: Share,
+    pub hidden: Share,
+    pub outside: Share,
+}
+
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FluxBudget {
     /// What was cast: "caustic photons" or "godray beams".
@@ -113,6 +122,8 @@ pub struct FluxBudget {
     pub light_power: Option<f64>,
     /// The beams' share in the camera's view; None for caustic photons.
     pub view: Option<BeamsInView>,
+    /// The landed caustic photons as the camera sees them; None until `seen_by`.
+    pub seen: Option<PhotonsSeen>,
 }
 
 impl FluxBudget {
@@ -155,6 +166,34 @@ impl FluxBudget {
         }
         budget.view = Some(view);
         budget
+    }
+
+    /// Sorts the landed caustic photons of `records` (`from_records`' input) by what the
+    /// camera at `camera` with `view_proj` sees of their hits: outside its view volume, hidden
+    /// behind the scene (`bvh`, its triangles) or visible. A hit counts as visible where
+    /// nothing lies nearer along the camera's ray than 2 % of the distance plus 1 cm, the
+    /// caustic splats' depth tolerance (photon_visibility.glsl).
+    pub fn seen_by(&mut self, records: &[[f32; 4]], view_proj: Mat4, camera: Vec3, bvh: &crate::bvh::Bvh) {
+        let mut seen = PhotonsSeen::default();
+        for pair in records.chunks_exact(2) {
+            if pair[0][3] < 0.5 {
+                continue;
+            }
+            let (hit, flux) = (Vec3::from_slice(&pair[0][..3]), pair[1][3] as f64);
+            let c = view_proj * hit.extend(1.0);
+            let inside = c.w > 0.0 && c.x.abs() <= c.w && c.y.abs() <= c.w && (0.0..=c.w).contains(&c.z);
+            let to_hit = (hit - camera).as_dvec3();
+            let distance = to_hit.length();
+            let share = if !inside {
+                &mut seen.outside
+            } else if bvh.occluded(camera.as_dvec3(), to_hit / distance, 1e-4, distance * 0.98 - 0.01) {
+                &mut seen.hidden
+            } else {
+                &mut seen.visible
+            };
+            share.add(flux);
+        }
+        self.seen = Some(seen);
     }
 
     /// Flux of all dropped photons, W.
@@ -250,6 +289,15 @@ impl fmt::Display for FluxBudget {
         if self.unknown > 0 {
             writeln!(f, "{:<44} {:>10}", "records with an unknown code", self.unknown)?;
         }
+        if let Some(s) = self.seen {
+            for (what, share) in [
+                ("landed where the camera sees it", s.visible),
+                ("landed where the scene hides it", s.hidden),
+                ("landed outside the camera's view", s.outside),
+            ] {
+                writeln!(f, "{:<44} {:>10} {:>12.5} {:>6.2}%", what, share.photons, share.watts, pct(share.watts))?;
+            }
+        }
         if let Some(v) = self.view {
             let weight = v.in_view + v.clipped;
             let share = |x: f64| if weight > 0.0 { 100.0 * x / weight } else { 0.0 };
@@ -295,6 +343,31 @@ mod tests {
         assert!((inside([0.0, 0.0, 1.0], [0.0, 0.0, -1.0]) - 0.45).abs() < 1e-5);
         assert_eq!(inside([0.0, 0.0, 1.0], [0.0, 0.0, 3.0]), 0.0, "wholly behind");
         assert_eq!(inside([5.0, 0.0, -1.0], [5.0, 0.0, -2.0]), 0.0, "wholly beside");
+    }
+
+    #[test]
+    fn landed_photons_are_seen_hidden_or_out_of_view() {
+        // Camera at the origin looking down −z; a wall across the view at z = −5.
+        let view_proj = glam::camera::rh::proj::vulkan::perspective(std::f32::consts::FRAC_PI_2, 1.0, 0.1, 100.0);
+        let wall = [[-10.0, -10.0, -5.0], [10.0, -10.0, -5.0], [0.0, 10.0, -5.0]].map(glam::DVec3::from);
+        let bvh = crate::bvh::Bvh::build([wall]);
+        let photon = |hit: [f32; 3], fate: f32, flux: f32| [[hit[0], hit[1], hit[2], fate], [0.0, 0.0, 0.0, flux]];
+        let records: Vec<[f32; 4]> = [
+            photon([0.0, 0.0, -3.0], 1.0, 1.0),   // in front of the wall: seen
+            photon([0.0, 0.0, -5.0], 1.0, 2.0),   // on the wall: seen (within the tolerance)
+            photon([0.0, 0.0, -8.0], 1.0, 4.0),   // behind it: hidden
+            photon([50.0, 0.0, -3.0], 1.0, 8.0),  // beside the view
+            photon([0.0, 0.0, 3.0], 1.0, 16.0),   // behind the camera
+            photon([0.0, 0.0, -3.0], -7.0, 32.0), // dropped: not sorted
+        ]
+        .concat();
+        let mut b = FluxBudget::from_records(&records);
+        b.seen_by(&records, view_proj, Vec3::ZERO, &bvh);
+        let s = b.seen.unwrap();
+        assert_eq!((s.visible.photons, s.visible.watts), (2, 3.0));
+        assert_eq!((s.hidden.photons, s.hidden.watts), (1, 4.0));
+        assert_eq!((s.outside.photons, s.outside.watts), (2, 24.0));
+        assert!(b.to_string().contains("landed where the scene hides it"));
     }
 
     #[test]

@@ -215,6 +215,9 @@ fn print_flux_budget(ctx: &Context, scene: &underlight::scene::Scene, extent: vk
     if let Some(records) = &images.photon_records {
         let mut budget = FluxBudget::from_records(records);
         budget.light_power = grid_power(&u);
+        let view_proj = glam::Mat4::from_cols_array_2d(&u.camera_view_proj);
+        let camera = glam::Vec3::from(u.camera_position);
+        budget.seen_by(records, view_proj, camera, &underlight::bvh::Bvh::of_scene(&recorded));
         println!("{budget}");
         printed = true;
     }
