@@ -730,3 +730,34 @@ fn the_shipped_estimator_resolves_a_cusp_pair_two_centimetres_apart() {
         assert!(got > 1.1 * dip, "the folds merge: peak {got:e}, between them {dip:e}");
     }
 }
+
+/// A moving camera (the viewer) surveys the photon density again at most every
+/// `PHOTON_SURVEY_INTERVAL` frames, not every frame, and a still one once: the survey is CPU
+/// work on the frame's path. The photons stay right meanwhile: every frame's caustic buffer
+/// holds light.
+#[test]
+fn a_moving_camera_surveys_the_photon_density_every_few_frames() {
+    use underlight::frame::PHOTON_SURVEY_INTERVAL;
+    let ctx = validated_context();
+    let mut scene = underlight::scene::load("tank").unwrap();
+    scene.effects.caustic_grid = 16;
+    scene.effects.godray_grid = 8;
+    scene.effects.shadow_map_size = 256;
+    let out = ash::vk::Extent2D { width: 64, height: 40 };
+    let mut renderer = underlight::headless::SceneRenderer::new(&ctx.device, &scene, out).unwrap();
+    let frames = 2 * PHOTON_SURVEY_INTERVAL + 1;
+    renderer.render(frames, 1.0, 1.0 / 30.0, false).unwrap();
+    assert_eq!(renderer.frame.photon_surveys, 1, "a still camera surveys once");
+    for k in 0..frames {
+        renderer.frame.scene_mut().camera.position.x += 0.01;
+        let (_, images) = renderer.render(1, 1.0 + k as f32 / 30.0, 0.0, true).unwrap();
+        let caustics = images.unwrap().caustics.expect("caustics");
+        assert!(caustics.pixels.iter().any(|p| p[0] > 0.0), "frame {k}: no caustic light");
+    }
+    // Moving for 2·interval + 1 frames: surveys at the first (the still camera's survey is
+    // older than the interval by then), at interval and at 2·interval: 3, where surveying
+    // every frame would be 17.
+    assert_eq!(renderer.frame.photon_surveys, 1 + 3, "surveys while the camera moved every frame");
+    drop(renderer);
+    assert_clean_shutdown(ctx);
+}

@@ -349,6 +349,12 @@ pub const GODRAY_SAME_SURFACE: f32 = 0.25;
 /// photon window.
 type PhotonDensityKey = ([[f32; 4]; 4], [[f32; 4]; 4], [f32; 2], [f32; 2]);
 
+/// While the camera moves, the photon density is surveyed again at most every this many
+/// frames. The survey costs 13–15 ms of CPU (docs/accuracy.md). A warp a few frames old only
+/// spreads the photons for where the camera just was: each photon still carries its warped
+/// cell's flux, so the light stays right, and only the photons' spacing lags.
+pub const PHOTON_SURVEY_INTERVAL: u32 = 8;
+
 pub struct Frame {
     pub plan: FramePlan,
     pub extents: FrameExtents,
@@ -380,8 +386,12 @@ pub struct Frame {
     /// `godray_photon_density = "view"`); None otherwise.
     photon_survey: Option<crate::bvh::Bvh>,
     /// The last warps surveyed and the frame they were surveyed for (camera, light, window):
-    /// surveyed again only when those change.
+    /// surveyed again only when those change, and at most every PHOTON_SURVEY_INTERVAL frames.
     photon_density: Option<(PhotonDensityKey, photon_density::ViewDensities)>,
+    /// Frames recorded since the last survey.
+    frames_since_survey: u32,
+    /// Surveys run since the frame was created (for the tests and the curious).
+    pub photon_surveys: u64,
     _nearest: Sampler,
     _linear: Sampler,
 }
@@ -627,6 +637,8 @@ impl Frame {
             noise_twin: noise_data,
             photon_survey,
             photon_density: None,
+            frames_since_survey: 0,
+            photon_surveys: 0,
             _nearest: nearest,
             _linear: linear,
         })
@@ -655,8 +667,15 @@ impl Frame {
         (u.camera_water_height, u.camera_water_gradient) = (hg.x, [hg.y, hg.z]);
         if let Some(bvh) = &self.photon_survey {
             let key = (u.camera_view_proj, u.light_view_proj, u.photon_window_min, u.photon_window_size);
-            if self.photon_density.as_ref().map(|(k, _)| *k) != Some(key) {
+            self.frames_since_survey = self.frames_since_survey.saturating_add(1);
+            let stale = match &self.photon_density {
+                None => true,
+                Some((k, _)) => *k != key && self.frames_since_survey >= PHOTON_SURVEY_INTERVAL,
+            };
+            if stale {
                 self.photon_density = Some((key, photon_density::view_adapted(&self.scene, self.bounds, bvh, &u)));
+                self.frames_since_survey = 0;
+                self.photon_surveys += 1;
             }
             if let Some((_, densities)) = &self.photon_density {
                 let e = &self.scene.effects;
