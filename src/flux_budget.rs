@@ -103,8 +103,6 @@ pub struct PhotonsSeen {
 
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FluxBudget {
-    /// What was cast: "caustic photons" or "godray beams".
-    pub what: &'static str,
     pub cast: u64,
     /// Landed photons: count and flux transmitted into the water (after Fresnel). For the
     /// beams, those drawn whose image-space iteration converged.
@@ -129,7 +127,7 @@ pub struct FluxBudget {
 impl FluxBudget {
     /// From the records `CausticsPass::read_photon_records` returns: two per photon.
     pub fn from_records(records: &[[f32; 4]]) -> Self {
-        let mut budget = FluxBudget { what: "caustic photons", ..Default::default() };
+        let mut budget = FluxBudget::default();
         for pair in records.chunks_exact(2) {
             let (code, flux) = (pair[0][3], pair[1][3] as f64);
             budget.cast += 1;
@@ -151,7 +149,6 @@ impl FluxBudget {
     /// camera whose view clips the beams (`FrameUniforms::camera_view_proj`).
     pub fn from_beam_records(records: &[[f32; 4]], camera_view_proj: Mat4) -> Self {
         let mut budget = Self::from_records(records);
-        budget.what = "godray beams";
         let mut view = BeamsInView::default();
         for pair in records.chunks_exact(2) {
             if pair[0][3] < 0.5 {
@@ -171,8 +168,8 @@ impl FluxBudget {
     /// Sorts the landed caustic photons of `records` (`from_records`' input) by what the
     /// camera at `camera` with `view_proj` sees of their hits: outside its view volume, hidden
     /// behind the scene (`bvh`, its triangles) or visible. A hit counts as visible where
-    /// nothing lies nearer along the camera's ray than 2 % of the distance plus 1 cm, the
-    /// caustic splats' depth tolerance (photon_visibility.glsl).
+    /// nothing lies nearer along the camera's ray than the caustic splats' depth tolerance
+    /// allows (`behind_scene` in photon_visibility.glsl: 2 % + 2 cm, here along the ray).
     pub fn seen_by(&mut self, records: &[[f32; 4]], view_proj: Mat4, camera: Vec3, bvh: &crate::bvh::Bvh) {
         let mut seen = PhotonsSeen::default();
         for pair in records.chunks_exact(2) {
@@ -186,7 +183,7 @@ impl FluxBudget {
             let distance = to_hit.length();
             let share = if !inside {
                 &mut seen.outside
-            } else if bvh.occluded(camera.as_dvec3(), to_hit / distance, 1e-4, distance * 0.98 - 0.01) {
+            } else if bvh.occluded(camera.as_dvec3(), to_hit / distance, 1e-4, nearest_seen(distance)) {
                 &mut seen.hidden
             } else {
                 &mut seen.visible
@@ -205,6 +202,15 @@ impl FluxBudget {
     pub fn landed_watts(&self) -> f64 {
         self.landed.watts + self.landed_unconverged.watts
     }
+}
+
+/// GLSL `CAUSTIC_DEPTH_TOLERANCE` (photon_visibility.glsl): relative, and in metres.
+const CAUSTIC_DEPTH_TOLERANCE: f64 = 0.02;
+
+/// The nearest a surface may lie along the camera's ray before it hides a hit at `distance`:
+/// `behind_scene`'s test, distance > scene·(1 + tolerance) + tolerance, solved for the scene.
+fn nearest_seen(distance: f64) -> f64 {
+    (distance - CAUSTIC_DEPTH_TOLERANCE) / (1.0 + CAUSTIC_DEPTH_TOLERANCE)
 }
 
 /// The share of the segment a → b (world space) inside the camera's view volume: clip space
@@ -240,9 +246,13 @@ impl fmt::Display for FluxBudget {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let total = self.light_power.unwrap_or(self.landed_watts() + self.dropped_watts());
         let pct = |w: f64| if total > 0.0 { 100.0 * w / total } else { 0.0 };
-        let (count, landed_ones) =
-            if self.view.is_some() { ("beams", "drawn beams") } else { ("photons", "landed photons") };
-        writeln!(f, "{:<44} {:>10} {:>12} {:>7}", self.what, count, "W", "%")?;
+        // The beams' budget is the one that knows their view (from_beam_records).
+        let (what, count, landed_ones) = if self.view.is_some() {
+            ("godray beams", "beams", "drawn beams")
+        } else {
+            ("caustic photons", "photons", "landed photons")
+        };
+        writeln!(f, "{:<44} {:>10} {:>12} {:>7}", what, count, "W", "%")?;
         writeln!(f, "{:<44} {:>10} {:>12.5}", "cast (the light's power through the grid)", self.cast, total)?;
         if let Some(power) = self.light_power {
             let reflected = power - self.landed_watts() - self.dropped_watts();

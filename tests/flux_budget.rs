@@ -9,9 +9,20 @@ use common::{assert_clean_shutdown, validated_context};
 use underlight::flux_budget::{DropReason, FluxBudget};
 use underlight::frame::uniforms::FrameUniforms;
 use underlight::frame::FrameOptions;
-use underlight::headless::SceneRenderer;
-use underlight::scene::{CausticEstimator, PhotonSpread};
+use underlight::headless::{SceneImages, SceneRenderer};
+use underlight::scene::{CausticEstimator, PhotonSpread, Scene};
 use underlight::vk::vk;
+
+/// One frame of `scene` at 160×100, t = 1 s, with every photon recorded: its images and its
+/// uniforms (the light's power, the camera).
+fn recorded_frame(ctx: &underlight::vk::Context, scene: &Scene) -> (SceneImages, FrameUniforms) {
+    let out = vk::Extent2D { width: 160, height: 100 };
+    let options = FrameOptions { record_photons: true, ..Default::default() };
+    let mut renderer = SceneRenderer::with_options(&ctx.device, scene, out, options).unwrap();
+    let extents = renderer.frame.extents;
+    let (_, images) = renderer.render(1, 1.0, 0.0, true).unwrap();
+    (images.expect("read back"), FrameUniforms::new(scene, scene.bounds(), &extents, 1.0))
+}
 
 #[test]
 fn every_photon_and_watt_is_accounted_for() {
@@ -24,15 +35,9 @@ fn every_photon_and_watt_is_accounted_for() {
         scene.effects.caustic_subdivision = 2;
         scene.effects.godrays = false;
         scene.effects.shadow_map_size = 512;
-        let out = vk::Extent2D { width: 160, height: 100 };
-        let options = FrameOptions { record_photons: true, ..Default::default() };
-        let mut renderer = SceneRenderer::with_options(&ctx.device, &scene, out, options).unwrap();
-        let extents = renderer.frame.extents;
-        let (_, images) = renderer.render(1, 1.0, 0.0, true).unwrap();
-        drop(renderer);
-        let records = images.unwrap().photon_records.expect("photon records");
+        let (images, u) = recorded_frame(&ctx, &scene);
+        let records = images.photon_records.expect("photon records");
         let mut budget = FluxBudget::from_records(&records);
-        let u = FrameUniforms::new(&scene, scene.bounds(), &extents, 1.0);
         let camera = glam::Vec3::from(u.camera_position);
         let view_proj = glam::Mat4::from_cols_array_2d(&u.camera_view_proj);
         budget.seen_by(&records, view_proj, camera, &underlight::bvh::Bvh::of_scene(&scene));
@@ -102,14 +107,8 @@ fn every_beam_is_accounted_for_and_the_view_moves_beams_not_light() {
             scene.effects.godray_subdivision = 2;
             scene.effects.godray_photon_density = spread;
             scene.effects.shadow_map_size = 512;
-            let out = vk::Extent2D { width: 160, height: 100 };
-            let options = FrameOptions { record_photons: true, ..Default::default() };
-            let mut renderer = SceneRenderer::with_options(&ctx.device, &scene, out, options).unwrap();
-            let extents = renderer.frame.extents;
-            let (_, images) = renderer.render(1, 1.0, 0.0, true).unwrap();
-            drop(renderer);
-            let records = images.unwrap().beam_records.expect("beam records");
-            let u = FrameUniforms::new(&scene, scene.bounds(), &extents, 1.0);
+            let (images, u) = recorded_frame(&ctx, &scene);
+            let records = images.beam_records.expect("beam records");
             let view_proj = glam::Mat4::from_cols_array_2d(&u.camera_view_proj);
             let budget = FluxBudget::from_beam_records(&records, view_proj);
             let power = underlight::flux_budget::grid_power(&u).expect("the built-in scenes' light is directional");

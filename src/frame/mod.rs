@@ -577,12 +577,6 @@ impl Frame {
         }
         if let Some(c) = &caustics {
             pass_sets.push((&c.sets, crate::passes::caustics::BINDINGS.to_vec(), PHOTON_SETS));
-            if let Some(records) = &c.photon_records {
-                for frame in 0..PHOTON_SETS {
-                    let r = Resource::Storage { buffer: records.raw, range: records.size };
-                    c.sets.write_at(frame, vec![(bindings::PHOTON_DEBUG as usize, r)]);
-                }
-            }
         }
         if let Some(g) = &godrays {
             pass_sets.push((&g.sets, crate::passes::godrays::BINDINGS.to_vec(), PHOTON_SETS));

@@ -6,6 +6,7 @@
 
 use crate::error::{Error, Result};
 use crate::passes::photon_accumulation::{dispatch_per_photon, require_float_atomics, AtomicAccumulation};
+use crate::passes::photon_records::PhotonRecords;
 use crate::passes::{require_accumulation_format, PhotonPath, ACCUMULATION_FORMAT, PHOTON_SETS};
 use crate::scene::CausticEstimator;
 use crate::shader_abi::bindings as b;
@@ -50,7 +51,7 @@ pub struct CausticsPass {
     /// With photon recording on: two vec4 per photon, (hit, 1 if landed else −drop reason)
     /// and (surface, flux: transmitted, or the light's before the water where dropped);
     /// `flux_budget` reads them.
-    pub photon_records: Option<Buffer>,
+    pub photon_records: Option<PhotonRecords>,
     /// The photon pipeline: graphics for the rasterised paths and the splat floor's draw,
     /// compute for the compute path.
     pipeline: Pipeline,
@@ -91,18 +92,6 @@ impl CausticsPass {
                 ),
             });
         }
-        if record_photons && path != PhotonPath::GeometryShader {
-            return Err(Error::InvalidParameter {
-                name: "record_photons",
-                message: "photon recording is a feature of the geometry-shader path".into(),
-            });
-        }
-        if record_photons && !device.has_pipeline_stores() {
-            return Err(Error::MissingFeatures {
-                device: device.info.name.clone(),
-                missing: vec!["vertexPipelineStoresAndAtomics (photon recording)"],
-            });
-        }
         if subdivision == 0 || subdivision > MAX_SUBDIVISION {
             return Err(Error::InvalidParameter {
                 name: "caustic_subdivision",
@@ -122,17 +111,8 @@ impl CausticsPass {
             _ => {}
         }
         let sets = DescriptorSets::new(device, "caustics", &bindings, PHOTON_SETS as u32)?;
-        let photon_records = if record_photons {
-            Some(Buffer::new(
-                device,
-                "caustic photon records",
-                photons * 32,
-                vk::BufferUsageFlags::STORAGE_BUFFER,
-                gpu_allocator::MemoryLocation::GpuToCpu,
-            )?)
-        } else {
-            None
-        };
+        let photon_records =
+            record_photons.then(|| PhotonRecords::new(device, "caustic photon records", photons, path)).transpose()?;
         require_accumulation_format(device, "R32G32B32A32_SFLOAT with blending and linear filtering (caustic target)")?;
         let target = ColorTarget::new(
             device,
@@ -211,7 +191,7 @@ impl CausticsPass {
         };
         // The buffers only this pass knows, in every frame's set.
         let own: Option<Resource> = match (&photon_records, &accumulation, &splat_floor) {
-            (Some(r), _, _) => Some(Resource::Storage { buffer: r.raw, range: r.size }),
+            (Some(r), _, _) => Some(r.resource()),
             (_, Some(a), _) => Some(a.resource()),
             (_, _, Some(f)) => Some(Resource::Storage { buffer: f.records.raw, range: f.records.size }),
             _ => None,
@@ -281,22 +261,14 @@ impl CausticsPass {
         }
         unsafe { dev.raw.cmd_draw(cmd, vertices, 1, 0, 0) };
         self.target.render_pass.end(cmd);
-        if self.photon_records.is_some() {
-            // The records are read by the host once the frame's fence signals.
-            let to_host = [vk::MemoryBarrier2::default()
-                .src_stage_mask(vk::PipelineStageFlags2::GEOMETRY_SHADER)
-                .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
-                .dst_stage_mask(vk::PipelineStageFlags2::HOST)
-                .dst_access_mask(vk::AccessFlags2::HOST_READ)];
-            unsafe { dev.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&to_host)) };
+        if let Some(records) = &self.photon_records {
+            records.record_host_barrier(dev, cmd);
         }
     }
 
     /// The recorded photons, as (hit, landed) and (surface, flux) per photon in grid order.
     /// Only meaningful after the frame that recorded them has finished.
     pub fn read_photon_records(&self) -> Option<Vec<[f32; 4]>> {
-        let bytes = self.photon_records.as_ref()?.mapped()?;
-        let floats: Vec<f32> = bytes.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect();
-        Some(floats.chunks_exact(4).map(|c| [c[0], c[1], c[2], c[3]]).collect())
+        self.photon_records.as_ref()?.read()
     }
 }

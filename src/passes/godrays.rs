@@ -10,13 +10,13 @@
 
 use crate::error::{Error, Result};
 use crate::passes::photon_accumulation::{dispatch_per_photon, require_float_atomics, AtomicAccumulation};
+use crate::passes::photon_records::PhotonRecords;
 use crate::passes::{require_accumulation_format, PhotonPath, ACCUMULATION_FORMAT, PHOTON_SETS};
 use crate::scene::{Effects, GodrayMethod};
 use crate::shader_abi::bindings as b;
 use crate::shader_math::GODRAY_MAX_SUBDIVISION;
 use crate::shaders;
-use crate::vk::buffer::Buffer;
-use crate::vk::descriptors::{Binding, DescriptorSets, Resource};
+use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
 use crate::vk::pipeline::{Blend, ComputePipelineDesc, GraphicsPipelineDesc, Pipeline};
 use crate::vk::render_pass::ColorTarget;
@@ -49,7 +49,7 @@ pub struct GodraysPass {
     accumulation: Option<AtomicAccumulation>,
     /// With `FrameOptions::record_photons` and the beams' geometry shader: two records per
     /// beam (`glsl/godrays/godrays.geom`, PHOTON_DEBUG), read back by the flux budget.
-    pub photon_records: Option<Buffer>,
+    pub photon_records: Option<PhotonRecords>,
     pub target: ColorTarget,
     /// This pass's descriptor sets (`passes::photon_set_index`), written by the frame.
     pub sets: DescriptorSets,
@@ -70,18 +70,6 @@ impl GodraysPass {
         let path = if path == PhotonPath::SplatFloor { PhotonPath::GeometryShader } else { path };
         // The march casts no beams: there is nothing to record.
         let record_photons = record_photons && method == GodrayMethod::Beams;
-        if record_photons && path != PhotonPath::GeometryShader {
-            return Err(Error::InvalidParameter {
-                name: "record_photons",
-                message: "photon recording is a feature of the geometry-shader path".into(),
-            });
-        }
-        if record_photons && !device.has_pipeline_stores() {
-            return Err(Error::MissingFeatures {
-                device: device.info.name.clone(),
-                missing: vec!["vertexPipelineStoresAndAtomics (photon recording)"],
-            });
-        }
         // The march draws no photons, so it has no photon path of its own.
         let atomics = method == GodrayMethod::Beams && path == PhotonPath::Compute;
         if atomics {
@@ -104,23 +92,14 @@ impl GodraysPass {
             bindings.push((b::PHOTON_DEBUG, Binding::Storage));
         }
         let sets = DescriptorSets::new(device, "godrays", &bindings, PHOTON_SETS as u32)?;
-        let photon_records = if record_photons {
-            let beams = (grid as u64 * subdivision as u64).pow(2);
-            let records = Buffer::new(
-                device,
-                "godray beam records",
-                beams * 32,
-                vk::BufferUsageFlags::STORAGE_BUFFER,
-                gpu_allocator::MemoryLocation::GpuToCpu,
-            )?;
+        let beams = (grid as u64 * subdivision as u64).pow(2);
+        let photon_records =
+            record_photons.then(|| PhotonRecords::new(device, "godray beam records", beams, path)).transpose()?;
+        if let Some(records) = &photon_records {
             for frame in 0..PHOTON_SETS {
-                let resource = Resource::Storage { buffer: records.raw, range: records.size };
-                sets.write_at(frame, vec![(b::PHOTON_DEBUG as usize, resource)]);
+                sets.write_at(frame, vec![(b::PHOTON_DEBUG as usize, records.resource())]);
             }
-            Some(records)
-        } else {
-            None
-        };
+        }
         let target = ColorTarget::new(
             device,
             "godrays",
@@ -203,9 +182,7 @@ impl GodraysPass {
     /// The recorded beams, as (hit, fate) and (surface, flux) per beam in grid order. Only
     /// meaningful after the frame that recorded them has finished.
     pub fn read_photon_records(&self) -> Option<Vec<[f32; 4]>> {
-        let bytes = self.photon_records.as_ref()?.mapped()?;
-        let floats: Vec<f32> = bytes.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect();
-        Some(floats.chunks_exact(4).map(|c| [c[0], c[1], c[2], c[3]]).collect())
+        self.photon_records.as_ref()?.read()
     }
 
     /// `set_index`: the frame in flight and the depth the photons are tested against
@@ -241,14 +218,8 @@ impl GodraysPass {
             dev.raw.cmd_draw(cmd, vertices, 1, 0, 0);
         }
         self.target.render_pass.end(cmd);
-        if self.photon_records.is_some() {
-            // The records are read by the host once the frame's fence signals.
-            let to_host = [vk::MemoryBarrier2::default()
-                .src_stage_mask(vk::PipelineStageFlags2::GEOMETRY_SHADER)
-                .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
-                .dst_stage_mask(vk::PipelineStageFlags2::HOST)
-                .dst_access_mask(vk::AccessFlags2::HOST_READ)];
-            unsafe { dev.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&to_host)) };
+        if let Some(records) = &self.photon_records {
+            records.record_host_barrier(dev, cmd);
         }
     }
 }

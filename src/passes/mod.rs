@@ -7,6 +7,7 @@ pub mod filter;
 pub mod godrays;
 pub mod mesh;
 pub mod photon_accumulation;
+pub mod photon_records;
 pub mod present;
 pub mod reflection;
 pub mod refraction;
