@@ -153,11 +153,17 @@ pub mod limits {
     /// 2 × 6² × 12 = 864 stays within the 1024 output components every geometry-shader device
     /// offers (`max_vertices = 72` in godrays.geom).
     pub const GODRAY_MAX_SUBDIVISION: u32 = 6;
+
+    /// Largest godray subdivision of the footprint-sized beams: each photon emits a ribbon of
+    /// 4 vertices of 16 components, and 4 × 4² × 16 = 1024, the output components every
+    /// geometry-shader device offers (`max_vertices = 64` in godrays_footprint.geom).
+    pub const GODRAY_FOOTPRINT_MAX_SUBDIVISION: u32 = 4;
     /// Every bound by its macro name, for the shader compiler.
     pub const ALL: &[(&str, u32)] = &[
         ("MAX_SUBDIVISION", MAX_SUBDIVISION),
         ("TRIANGLE_MAX_SUBDIVISION", TRIANGLE_MAX_SUBDIVISION),
         ("GODRAY_MAX_SUBDIVISION", GODRAY_MAX_SUBDIVISION),
+        ("GODRAY_FOOTPRINT_MAX_SUBDIVISION", GODRAY_FOOTPRINT_MAX_SUBDIVISION),
     ];
 }
 

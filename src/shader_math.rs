@@ -5,7 +5,9 @@ use glam::{UVec2, Vec2, Vec3, Vec3Swizzles};
 use std::f32::consts::PI;
 
 /// The photon passes' subdivision bounds are part of the shader interface (`shader_abi::limits`).
-pub use crate::shader_abi::limits::{GODRAY_MAX_SUBDIVISION, MAX_SUBDIVISION, TRIANGLE_MAX_SUBDIVISION};
+pub use crate::shader_abi::limits::{
+    GODRAY_FOOTPRINT_MAX_SUBDIVISION, GODRAY_MAX_SUBDIVISION, MAX_SUBDIVISION, TRIANGLE_MAX_SUBDIVISION,
+};
 
 /// See `photon_grid_uv` in shader_math.glsl.
 pub fn photon_grid_uv(cell: UVec2, sub: UVec2, subdiv: u32, grid: UVec2) -> Vec2 {

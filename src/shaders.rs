@@ -72,6 +72,14 @@ pub const VARIANTS: &[Variant] = &[
     Variant { name: "caustics_debug.geom", source: "caustics/caustics.geom", defines: &["PHOTON_DEBUG"] },
     // Every godray beam's cast recorded for the flux budget (glsl/godrays/godrays.geom).
     Variant { name: "godrays_debug.geom", source: "godrays/godrays.geom", defines: &["PHOTON_DEBUG"] },
+    // The same for the footprint-sized beams (glsl/godrays/godrays_footprint.geom).
+    Variant {
+        name: "godrays_footprint_debug.geom",
+        source: "godrays/godrays_footprint.geom",
+        defines: &["PHOTON_DEBUG"],
+    },
+    // The ribbons' fragments: their radiance spread over their width (glsl/godrays/godrays.frag).
+    Variant { name: "godrays_footprint.frag", source: "godrays/godrays.frag", defines: &["BEAM_FOOTPRINT"] },
     // The reflection pass writes colour only (glsl/scene/scene.frag).
     Variant { name: "reflection.frag", source: "scene/scene.frag", defines: &["COLOR_ONLY"] },
     // Compose binds only the effects a scene has (glsl/compose/compose.frag).

@@ -494,18 +494,33 @@ fn photons_spread_for_the_view_at_the_extremes() {
 
 #[test]
 fn marched_godrays_at_the_extremes() {
-    use underlight::scene::GodrayMethod;
+    godrays_at_the_extremes(underlight::scene::GodrayMethod::Marched);
+}
+
+/// The ribbons' widths come from neighbouring rays and the camera's distance: a camera on the
+/// water plane or on the floor looking up along the beams (sin θ → 0), a vanishing or huge
+/// field of view, a grazing sun.
+#[test]
+fn footprint_beams_at_the_extremes() {
+    godrays_at_the_extremes(underlight::scene::GodrayMethod::Footprint);
+}
+
+/// Every camera, projection, sun and medium extreme through one godray method: validation
+/// clean and finite (`render`), and light wherever the view crosses sunlit water.
+fn godrays_at_the_extremes(method: underlight::scene::GodrayMethod) {
     let ctx = validated_context();
-    let marched = |label: &str, f: &dyn Fn(&mut Scene)| {
+    let name = method.name();
+    let godrays_of = |label: &str, f: &dyn Fn(&mut Scene)| {
         let mut s = pool(0.04);
         s.water.noise_amplitude = 0.02;
         s.output = [48, 48];
         s.effects.caustic_grid = 48;
-        s.effects.godray_method = GodrayMethod::Marched;
+        s.effects.godray_grid = 48;
+        s.effects.godray_method = method;
         s.camera.position = Vec3::new(-2.0, -1.0, 0.0);
         s.camera.look_at = Vec3::new(2.0, -1.2, 0.3);
         f(&mut s);
-        let images = render(&ctx, &s, 0.5, &format!("marched, {label}"));
+        let images = render(&ctx, &s, 0.5, &format!("{name}, {label}"));
         images.godrays.map_or(0.0, |g| g.channel_sums()[0])
     };
     let cameras: [(&str, Vec3, Vec3); 5] = [
@@ -516,36 +531,36 @@ fn marched_godrays_at_the_extremes() {
         ("on the floor, looking up", Vec3::new(1.0, -FLOOR_DEPTH + 1e-3, 0.0), Vec3::new(1.0, 0.0, 0.0)),
     ];
     for (label, position, look_at) in cameras {
-        let sum = marched(label, &|s| {
+        let sum = godrays_of(label, &|s| {
             s.camera.position = position;
             s.camera.look_at = look_at;
             s.camera.z_far = 100.0;
         });
-        assert!(sum > 0.0, "marched, {label}: no godrays through the water");
+        assert!(sum > 0.0, "{name}, {label}: no godrays through the water");
     }
     for (label, near, far, fov) in
         [("z_near 10 µm", 1e-5, 10.0, 60.0), ("z_far 1000 km", 0.05, 1e6, 60.0), ("fov 0.01°", 0.05, 10.0, 0.01)]
     {
-        let sum = marched(label, &|s| {
+        let sum = godrays_of(label, &|s| {
             s.camera.z_near = near;
             s.camera.z_far = far;
             s.camera.fov_y_degrees = fov;
         });
-        assert!(sum > 0.0, "marched, {label}: no godrays");
+        assert!(sum > 0.0, "{name}, {label}: no godrays");
     }
-    marched("fov 179.9°", &|s| s.camera.fov_y_degrees = 179.9);
+    godrays_of("fov 179.9°", &|s| s.camera.fov_y_degrees = 179.9);
     for elevation in [90.0f32, 10.0, 1.0] {
-        let sum = marched(&format!("sun at {elevation}°"), &|s| {
+        let sum = godrays_of(&format!("sun at {elevation}°"), &|s| {
             s.light.direction = if elevation == 90.0 { Vec3::NEG_Y } else { sun(elevation, 30.0) };
         });
-        assert!(sum > 0.0, "marched, sun at {elevation}°: no godrays");
+        assert!(sum > 0.0, "{name}, sun at {elevation}°: no godrays");
     }
-    let clear = marched("γ = 0", &|s| s.medium.gamma = Vec3::ZERO);
-    let murky = marched("γ = 50 /m", &|s| s.medium.gamma = Vec3::splat(50.0));
-    assert!(clear > 0.0 && murky < 1e-3 * clear, "γ = 0: {clear}, γ = 50 /m: {murky}");
+    let clear = godrays_of("γ = 0", &|s| s.medium.gamma = Vec3::ZERO);
+    let murky = godrays_of("γ = 50 /m", &|s| s.medium.gamma = Vec3::splat(50.0));
+    assert!(clear > 0.0 && murky < 1e-3 * clear, "{name}: γ = 0: {clear}, γ = 50 /m: {murky}");
     for g in [-0.99f32, 0.99] {
-        let sum = marched(&format!("g = {g}"), &|s| s.medium.hg_g = g);
-        assert!(sum > 0.0, "marched, g = {g}: no godrays");
+        let sum = godrays_of(&format!("g = {g}"), &|s| s.medium.hg_g = g);
+        assert!(sum > 0.0, "{name}, g = {g}: no godrays");
     }
     assert_clean_shutdown(ctx);
 }

@@ -574,6 +574,10 @@ fn out_of_range_values_are_errors_naming_the_field_and_the_range() {
             "effects.caustic_subdivision = 4 is out of range for effects.caustic_estimator = \"triangles\": must be <= 3",
         ),
         ("[effects]\ncaustic_estimator = \"splats\"\n", "effects.caustic_estimator"),
+        (
+            "[effects]\ngodray_method = \"footprint\"\ngodray_subdivision = 5\n",
+            "effects.godray_subdivision = 5 is out of range for effects.godray_method = \"footprint\": must be <= 4",
+        ),
         ("[output]\nwidth = 0\nheight = 10\n", "output.width = 0 is out of range: must be in [1, 16384]"),
     ];
     for (section, expected) in appended {
@@ -654,11 +658,14 @@ fn godray_method_is_read_and_marched_needs_a_directional_light() {
     assert_eq!(s.effects.godray_method, GodrayMethod::Marched);
     let beams = format!("{VALID}\n[effects]\ngodray_method = \"beams\"\n");
     assert_eq!(scene::load_str(&beams, &dir.join("x.toml")).unwrap().effects.godray_method, GodrayMethod::Beams);
+    let footprint = format!("{VALID}\n[effects]\ngodray_method = \"footprint\"\n");
+    let s = scene::load_str(&footprint, &dir.join("x.toml")).unwrap();
+    assert_eq!(s.effects.godray_method, GodrayMethod::Footprint);
     // A wrong name: the file, the line and column of the value, the field and the valid names.
     assert_error(
         &dir,
         &format!("{VALID}\n[effects]\ngodray_method = \"rays\"\n"),
-        &["x.toml:30:17: effects.godray_method: unknown variant `rays`, expected `beams` or `marched`"],
+        &["x.toml:30:17: effects.godray_method: unknown variant `rays`, expected one of `beams`, `footprint`, `marched`"],
     );
     assert_error(&dir, &format!("{VALID}\n[effects]\ngodray_method = 2\n"), &["effects.godray_method", "invalid type"]);
     // The march lights its steps along the sun's one direction: a point light is refused.

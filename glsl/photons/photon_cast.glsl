@@ -194,6 +194,10 @@ bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
     vec3 rt = refract(d, n, 1.0 / w.ior);
     if (dot(rt, rt) == 0.0) { photon_fate = PHOTON_TOTAL_REFLECTION; return false; }
     rt = normalize(rt);
+    // Known from here on, also for a photon dropped below: the footprint beams measure their
+    // cross-sections from their neighbours' refracted rays (godrays_footprint.geom).
+    ph.surface = ps;
+    ph.direction = rt;
 
     // Shah's iteration: guess d, project p_s + d·r_t into the light's map, and take the stored
     // receiver's distance F(d) from p_s as the next guess. The first guess assumes the

@@ -5,8 +5,9 @@
 
 const float PI = 3.14159265358979;
 
-// MAX_SUBDIVISION, TRIANGLE_MAX_SUBDIVISION and GODRAY_MAX_SUBDIVISION, the largest per-axis
-// photon subdivision a geometry-shader invocation emits, are macros from shader_abi::limits
+// MAX_SUBDIVISION, TRIANGLE_MAX_SUBDIVISION, GODRAY_MAX_SUBDIVISION and
+// GODRAY_FOOTPRINT_MAX_SUBDIVISION, the largest per-axis photon subdivision a geometry-shader
+// invocation emits, are macros from shader_abi::limits
 // (their one definition). max_vertices must be a compile-time literal, so each shader is
 // compiled for its bound and the actual factor is a specialization constant the driver
 // unrolls at pipeline creation.

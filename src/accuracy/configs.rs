@@ -14,6 +14,8 @@ pub struct SweepAxes {
     pub subdivision: Vec<u32>,
     pub iterations: Vec<u32>,
     pub target_scale: Vec<f32>,
+    /// `effects.godray_target_scale`.
+    pub godray_target_scale: Vec<f32>,
     pub point_size: Vec<f32>,
     pub line_width: Vec<f32>,
     pub filter: Vec<bool>,
@@ -37,8 +39,9 @@ impl SweepAxes {
                 bail!("{name} {v} is out of range {lo}..={hi}");
             }
         }
-        let floats: [(&str, &Vec<f32>, f32, f32); 3] = [
+        let floats: [(&str, &Vec<f32>, f32, f32); 4] = [
             ("--target", &self.target_scale, 0.0, 4.0),
+            ("--godray-target", &self.godray_target_scale, 0.0, 4.0),
             ("--point-size", &self.point_size, 0.0, f32::INFINITY),
             ("--line-width", &self.line_width, 0.0, f32::INFINITY),
         ];
@@ -57,6 +60,14 @@ impl SweepAxes {
             bail!(
                 "--godray-method marched needs a directional light, and scene {:?} has a point light: sweep beams only",
                 scene.name
+            );
+        }
+        let footprint_max = crate::shader_math::GODRAY_FOOTPRINT_MAX_SUBDIVISION;
+        if self.godray_method.contains(&GodrayMethod::Footprint) && scene.effects.godray_subdivision > footprint_max {
+            bail!(
+                "--godray-method footprint draws at most {footprint_max}² beams per cell, and scene {:?} has godray_subdivision = {}",
+                scene.name,
+                scene.effects.godray_subdivision
             );
         }
         Ok(())
@@ -96,36 +107,39 @@ impl SweepAxes {
             for &sub in &or(&self.subdivision, e.caustic_subdivision) {
                 for &iterations in &or(&self.iterations, e.iterations) {
                     for &scale in &orf(&self.target_scale, e.caustic_target_scale) {
-                        for &size in &orf(&self.point_size, e.point_size_max) {
-                            for &width in &orf(&self.line_width, e.line_width) {
-                                for &(filter, estimator, density, godray_method, beams) in &switches {
-                                    let mut s = base.clone();
-                                    let fx = &mut s.effects;
-                                    fx.caustic_grid = grid;
-                                    fx.caustic_subdivision = sub;
-                                    fx.iterations = iterations;
-                                    fx.caustic_target_scale = scale;
-                                    fx.point_size_max = size;
-                                    fx.point_size_min = fx.point_size_min.min(size);
-                                    fx.line_width = width;
-                                    fx.filter = filter;
-                                    fx.caustic_estimator = estimator;
-                                    fx.caustic_photon_density = density;
-                                    fx.godray_photon_density = beams;
-                                    fx.godray_method = godray_method;
-                                    // The triangle estimator's subdivision bound (its
-                                    // geometry shader's output limit) skips larger ones.
-                                    if estimator == CausticEstimator::Triangles
-                                        && sub > crate::shader_math::TRIANGLE_MAX_SUBDIVISION
-                                    {
-                                        continue;
+                        for &godray_scale in &orf(&self.godray_target_scale, e.godray_target_scale) {
+                            for &size in &orf(&self.point_size, e.point_size_max) {
+                                for &width in &orf(&self.line_width, e.line_width) {
+                                    for &(filter, estimator, density, godray_method, beams) in &switches {
+                                        let mut s = base.clone();
+                                        let fx = &mut s.effects;
+                                        fx.caustic_grid = grid;
+                                        fx.caustic_subdivision = sub;
+                                        fx.iterations = iterations;
+                                        fx.caustic_target_scale = scale;
+                                        fx.godray_target_scale = godray_scale;
+                                        fx.point_size_max = size;
+                                        fx.point_size_min = fx.point_size_min.min(size);
+                                        fx.line_width = width;
+                                        fx.filter = filter;
+                                        fx.caustic_estimator = estimator;
+                                        fx.caustic_photon_density = density;
+                                        fx.godray_photon_density = beams;
+                                        fx.godray_method = godray_method;
+                                        // The triangle estimator's subdivision bound (its
+                                        // geometry shader's output limit) skips larger ones.
+                                        if estimator == CausticEstimator::Triangles
+                                            && sub > crate::shader_math::TRIANGLE_MAX_SUBDIVISION
+                                        {
+                                            continue;
+                                        }
+                                        // The marched godrays need a directional light: a point
+                                        // light's scene skips them (`validate_for` refuses them).
+                                        if godray_method == GodrayMethod::Marched && s.light.kind == LightKind::Point {
+                                            continue;
+                                        }
+                                        out.push(s);
                                     }
-                                    // The marched godrays need a directional light: a point
-                                    // light's scene skips them (`validate_for` refuses them).
-                                    if godray_method == GodrayMethod::Marched && s.light.kind == LightKind::Point {
-                                        continue;
-                                    }
-                                    out.push(s);
                                 }
                             }
                         }

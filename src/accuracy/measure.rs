@@ -27,6 +27,12 @@ pub struct SweepRow {
     pub caustic_target: [u32; 2],
     /// The scene setting that gave that size (`effects.caustic_target_scale`).
     pub caustic_target_scale: f32,
+    /// The godray target's size and the scene setting that gave it
+    /// (`effects.godray_target_scale`); sweeps from before they were recorded read as zero.
+    #[serde(default)]
+    pub godray_target: [u32; 2],
+    #[serde(default)]
+    pub godray_target_scale: f32,
     pub point_size_max: f32,
     pub line_width: f32,
     pub filter: bool,
@@ -53,6 +59,10 @@ pub struct SweepRow {
     #[serde(default)]
     pub caustics_at_output: Option<BufferError>,
     pub godrays: Option<BufferError>,
+    /// The godray buffer upsampled to the output against a reference traced there, as
+    /// `caustics_at_output`: comparable between godray target sizes. None in older sweeps.
+    #[serde(default)]
+    pub godrays_at_output: Option<BufferError>,
     /// Mean FLIP of the final image composed with the GPU's buffers against the one composed
     /// with the reference's.
     pub flip: f64,
@@ -90,7 +100,7 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
     for (k, scene) in scenes.iter().enumerate() {
         let e = &scene.effects;
         eprintln!(
-            "setting {}/{}: {} estimator, {} photons, {} godrays ({} beams), grid {}² × {}², {} iterations, target ×{}, points ≤ {} px, lines {} px, filter {}",
+            "setting {}/{}: {} estimator, {} photons, {} godrays ({} beams), grid {}² × {}², {} iterations, target ×{}, godray target ×{}, points ≤ {} px, lines {} px, filter {}",
             k + 1,
             scenes.len(),
             e.caustic_estimator.name(),
@@ -101,6 +111,7 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
             e.caustic_subdivision,
             e.iterations,
             e.caustic_target_scale,
+            e.godray_target_scale,
             e.point_size_max,
             e.line_width,
             if e.filter { "on" } else { "off" }
@@ -141,17 +152,25 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
             images.height,
         )?;
         // At the output's size: the same buffer where the target is the output's, else the
-        // buffer upsampled against a reference traced there (cached like the other).
-        let caustics_at_output = match gpu_c {
-            Some(g) if extents.caustic == extents.output => error(Some(g), &reference.caustics)?,
-            Some(g) => {
-                let at_output = FrameExtents { caustic: extents.output, ..extents };
-                let r = cached_reference(scene, spec.time, &at_output, &spec.reference, &spec.cache_dir)?;
-                let [w, h] = extents.output;
-                error(Some(&upsampled(g, w, h)), &r.caustics)?
+        // buffer upsampled against a reference traced there (cached like the other, and
+        // traced once for both buffers).
+        let at_output = FrameExtents { caustic: extents.output, godray: extents.output, ..extents };
+        let mut reference_at_output = None;
+        let mut at_output_error = |gpu: Option<&HdrImage>, own: &Option<HdrImage>, size: [u32; 2], godrays: bool| {
+            let Some(g) = gpu else { return Ok(None) };
+            if size == extents.output {
+                return error(Some(g), own);
             }
-            None => None,
+            if reference_at_output.is_none() {
+                reference_at_output =
+                    Some(cached_reference(scene, spec.time, &at_output, &spec.reference, &spec.cache_dir)?);
+            }
+            let r = reference_at_output.as_ref().expect("traced above");
+            let [w, h] = extents.output;
+            error(Some(&upsampled(g, w, h)), if godrays { &r.godrays } else { &r.caustics })
         };
+        let caustics_at_output = at_output_error(gpu_c, &reference.caustics, extents.caustic, false)?;
+        let godrays_at_output = at_output_error(gpu_g, &reference.godrays, extents.godray, true)?;
         let change = |a: Option<&HdrImage>, b: Option<&HdrImage>| match (a, b) {
             (Some(a), Some(b)) => frame_change(a, b),
             _ => Ok(0.0),
@@ -164,6 +183,8 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
             iterations: e.iterations,
             caustic_target: extents.caustic,
             caustic_target_scale: e.caustic_target_scale,
+            godray_target: extents.godray,
+            godray_target_scale: e.godray_target_scale,
             point_size_max: e.point_size_max,
             line_width: e.line_width,
             filter: e.filter,
@@ -176,6 +197,7 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
             caustics: error(gpu_c, &reference.caustics)?,
             caustics_at_output,
             godrays: error(gpu_g, &reference.godrays)?,
+            godrays_at_output,
             flip,
             caustic_change_gpu: change(gpu_c, shown(&next.caustics_filtered, &next.caustics))?,
             caustic_change_reference: change(reference.caustics.as_ref(), reference_next.caustics.as_ref())?,

@@ -29,15 +29,18 @@ pub fn csv(rows: &[SweepRow]) -> String {
         "estimator,godray_method,caustic_grid,caustic_subdivision,caustic_photons,photon_density,godray_photon_density,iterations,caustic_target_w,caustic_target_h,point_size_max,\
          line_width,filter,effect_ms,frame_ms,caustic_rel_rmse,caustic_mean_rel_error,caustic_flux_error,\
          godray_rel_rmse,godray_mean_rel_error,godray_flux_error,flip,caustic_change_gpu,caustic_change_reference,\
-         caustic_rel_rmse_at_output,caustic_flux_error_at_output,pareto\n",
+         caustic_rel_rmse_at_output,caustic_flux_error_at_output,godray_target_w,godray_target_h,\
+         godray_rel_rmse_at_output,godray_flux_error_at_output,pareto\n",
     );
     let opt = |e: Option<BufferError>| match e {
         Some(e) => format!("{:.5},{:.5},{:.5}", e.relative_rmse, e.mean_relative_error, e.flux_error),
         None => ",,".into(),
     };
+    let at_output =
+        |e: Option<BufferError>| e.map(|e| format!("{:.5},{:.5}", e.relative_rmse, e.flux_error)).unwrap_or(",".into());
     for r in rows {
         s += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{},{},{:.5},{:.5},{:.5},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{},{},{:.5},{:.5},{:.5},{},{},{},{},{}\n",
             r.estimator,
             r.godray_method,
             r.caustic_grid,
@@ -58,7 +61,10 @@ pub fn csv(rows: &[SweepRow]) -> String {
             r.flip,
             r.caustic_change_gpu,
             r.caustic_change_reference,
-            r.caustics_at_output.map(|e| format!("{:.5},{:.5}", e.relative_rmse, e.flux_error)).unwrap_or(",".into()),
+            at_output(r.caustics_at_output),
+            r.godray_target[0],
+            r.godray_target[1],
+            at_output(r.godrays_at_output),
             r.pareto
         );
     }
@@ -68,14 +74,15 @@ pub fn csv(rows: &[SweepRow]) -> String {
 /// A table for the terminal and docs (Markdown).
 pub fn table(rows: &[SweepRow]) -> String {
     let mut s = String::from(
-        "| estimator | godrays | photons | iter | target | points ≤ | filter | effect ms | caustic rel RMSE | flux err | at the output | godray rel RMSE | FLIP | change GPU / ref | front |\n\
-         | --- | --- | ---: | ---: | --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | --- | --- |\n",
+        "| estimator | godrays | photons | iter | target | points ≤ | filter | effect ms | caustic rel RMSE | flux err | at the output | godray target | godray rel RMSE | at the output | FLIP | change GPU / ref | front |\n\
+         | --- | --- | ---: | ---: | --- | ---: | --- | ---: | ---: | ---: | ---: | --- | ---: | ---: | ---: | --- | --- |\n",
     );
+    let rmse = |e: Option<BufferError>| e.map(|e| format!("{:.3}", e.relative_rmse)).unwrap_or("–".into());
     for r in rows {
         let c = r.caustics.map(|e| (format!("{:.3}", e.relative_rmse), format!("{:+.1} %", 100.0 * e.flux_error)));
         let (c_rmse, c_flux) = c.unwrap_or(("–".into(), "–".into()));
         s += &format!(
-            "| {} | {} | {}² × {}²{} | {} | {}×{} | {} | {} | {:.1} | {} | {} | {} | {} | {:.3} | {:.3} / {:.3} | {} |\n",
+            "| {} | {} | {}² × {}²{} | {} | {}×{} | {} | {} | {:.1} | {} | {} | {} | {}×{} | {} | {} | {:.3} | {:.3} / {:.3} | {} |\n",
             r.estimator,
             if r.godray_photon_density == "even" {
                 r.godray_method.clone()
@@ -93,8 +100,11 @@ pub fn table(rows: &[SweepRow]) -> String {
             r.effect_ms,
             c_rmse,
             c_flux,
-            r.caustics_at_output.map(|e| format!("{:.3}", e.relative_rmse)).unwrap_or("–".into()),
-            r.godrays.map(|e| format!("{:.3}", e.relative_rmse)).unwrap_or("–".into()),
+            rmse(r.caustics_at_output),
+            r.godray_target[0],
+            r.godray_target[1],
+            rmse(r.godrays),
+            rmse(r.godrays_at_output),
             r.flip,
             r.caustic_change_gpu,
             r.caustic_change_reference,
@@ -199,6 +209,8 @@ mod tests {
             iterations: 5,
             caustic_target: [154, 96],
             caustic_target_scale: 0.64,
+            godray_target: [38, 24],
+            godray_target_scale: 0.16,
             point_size_max: 20.0,
             line_width: 1.0,
             filter: true,
@@ -211,6 +223,7 @@ mod tests {
             caustics: e,
             caustics_at_output: e,
             godrays: e,
+            godrays_at_output: e,
             flip: 0.1,
             caustic_change_gpu: 0.2,
             caustic_change_reference: 0.2,

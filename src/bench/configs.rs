@@ -101,6 +101,18 @@ pub fn configs() -> Vec<BenchConfig> {
             paper_fps: "-",
             ..base.clone()
         },
+        // Not in the paper: triangles-800 with footprint-sized beams (ribbons as wide as each
+        // beam's cross-section) instead of lines (docs/performance.md).
+        BenchConfig {
+            name: "footprint-800",
+            caustic_estimator: CausticEstimator::Triangles,
+            caustic_grid: 100,
+            caustic_subdivision: Some(3),
+            caustic_target_scale: Some(1.0),
+            godray_method: GodrayMethod::Footprint,
+            paper_fps: "-",
+            ..base.clone()
+        },
         // Not in the paper: its camera stays under the water.
         BenchConfig { name: "above-800", camera_above: true, paper_fps: "-", ..base.clone() },
         BenchConfig { name: "tiny", width: 96, height: 96, caustic_grid: 16, godray_grid: 8, paper_fps: "-", ..base },

@@ -10,7 +10,7 @@ use crate::image_io::HdrImage;
 use crate::memory::{self, FrameMemory};
 use crate::passes::PassId;
 use crate::passes::PhotonPath;
-use crate::scene::{CausticEstimator, GodrayMethod, Scene};
+use crate::scene::{CausticEstimator, Scene};
 use crate::vk::device::Device;
 use anyhow::{bail, Result};
 use ash::vk;
@@ -113,6 +113,10 @@ pub fn compare_paths(
             eprintln!("  {}: skipped, the triangle estimator is the geometry shader's alone", path.name());
             continue;
         }
+        if path != PhotonPath::GeometryShader && config.godray_method == crate::scene::GodrayMethod::Footprint {
+            eprintln!("  {}: skipped, the footprint-sized beams are the geometry shader's alone", path.name());
+            continue;
+        }
         eprintln!("  {} path…", path.name());
         let (mut result, buffers) = measure(device, scene, config, frames, warmup, path, true)?;
         let buffers = buffers.expect("measure reads the buffers back when asked");
@@ -187,7 +191,7 @@ fn measure(
             0
         },
         // The marched godrays cast no photons.
-        godray_photons: if renderer.frame.plan.runs(PassId::Godrays) && config.godray_method == GodrayMethod::Beams {
+        godray_photons: if renderer.frame.plan.runs(PassId::Godrays) && config.godray_method.casts_beams() {
             n(config.godray_grid, config.subdivision)
         } else {
             0

@@ -2,7 +2,8 @@
 //! times and, on request, the photons' flux budget.
 
 use super::{
-    caustic_estimator, context_desc, effect_png_exposure, finish, output_side, photon_spread, prepare_outputs, Cli,
+    caustic_estimator, context_desc, effect_png_exposure, finish, godray_method, output_side, photon_spread,
+    prepare_outputs, Cli,
 };
 use anyhow::{bail, Context as _, Result};
 use std::path::PathBuf;
@@ -63,6 +64,10 @@ pub(super) struct SceneArgs {
     /// the view rays' length through the water above where they enter).
     #[arg(long, value_name = "NAME", value_parser = photon_spread)]
     godray_photon_density: Option<underlight::scene::PhotonSpread>,
+    /// Draw the godrays this way instead of the scene's: beams (the paper's lines), footprint
+    /// (beams as wide as their cross-sections) or marched (a ray march, directional lights).
+    #[arg(long, value_name = "NAME", value_parser = godray_method)]
+    godray_method: Option<underlight::scene::GodrayMethod>,
 }
 
 /// `--hdr-format`.
@@ -96,6 +101,9 @@ pub(super) fn run(cli: &Cli, args: &SceneArgs) -> Result<i32> {
     }
     if let Some(density) = args.godray_photon_density {
         scene.effects.godray_photon_density = density;
+    }
+    if let Some(method) = args.godray_method {
+        scene.effects.godray_method = method;
     }
     if scene.camera.position.distance(scene.camera.look_at) < 1e-6 {
         bail!("--camera and --look-at give the same point: the camera needs a direction to look in");
@@ -199,7 +207,7 @@ fn print_flux_budget(ctx: &Context, scene: &underlight::scene::Scene, extent: vk
     let mut recorded = scene.clone();
     recorded.effects.caustic_estimator = underlight::scene::CausticEstimator::Paper;
     let e = &recorded.effects;
-    let beams = e.godrays && e.godray_method == underlight::scene::GodrayMethod::Beams;
+    let beams = e.godrays && e.godray_method.casts_beams();
     if !(e.caustics || beams) || !ctx.device.has_pipeline_stores() {
         bail!("--flux-budget needs caustics or godray beams, and a device with vertexPipelineStoresAndAtomics");
     }

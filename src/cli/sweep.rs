@@ -29,6 +29,9 @@ pub(super) struct SweepArgs {
     /// Caustic target scale relative to the output.
     #[arg(long, value_delimiter = ',')]
     target: Vec<f32>,
+    /// Godray target scale relative to the output.
+    #[arg(long, value_delimiter = ',')]
+    godray_target: Vec<f32>,
     /// Largest caustic point size, px (the smallest is lowered to it where larger).
     #[arg(long, value_delimiter = ',')]
     point_size: Vec<f32>,
@@ -47,7 +50,8 @@ pub(super) struct SweepArgs {
     /// Godray beam densities: even, view (comma-separated).
     #[arg(long, value_delimiter = ',', value_parser = photon_spread)]
     godray_photon_density: Vec<underlight::scene::PhotonSpread>,
-    /// Godray methods: beams, marched (comma-separated; marched needs a directional light).
+    /// Godray methods: beams, footprint, marched (comma-separated; marched needs a directional
+    /// light).
     #[arg(long, value_delimiter = ',', value_parser = godray_method)]
     godray_method: Vec<underlight::scene::GodrayMethod>,
     /// Timed frames per setting (median) and warm-up frames.
@@ -79,6 +83,7 @@ pub(super) fn run(cli: &Cli, args: &SweepArgs) -> Result<i32> {
         subdivision: args.subdiv.clone(),
         iterations: args.iterations.clone(),
         target_scale: args.target.clone(),
+        godray_target_scale: args.godray_target.clone(),
         point_size: args.point_size.clone(),
         line_width: args.line_width.clone(),
         filter,

@@ -607,8 +607,8 @@ impl Frame {
         }
         let view = crate::scene::PhotonSpread::View;
         let caustics_follow = caustics.is_some() && scene.effects.caustic_photon_density == view;
-        let beams_follow = godrays.as_ref().is_some_and(|g| g.method == GodrayMethod::Beams)
-            && scene.effects.godray_photon_density == view;
+        let beams_follow =
+            godrays.as_ref().is_some_and(|g| g.method.casts_beams()) && scene.effects.godray_photon_density == view;
         let photon_survey = (caustics_follow || beams_follow).then(|| crate::bvh::Bvh::of_scene(scene));
         Ok(Self {
             plan,

@@ -3,6 +3,10 @@
 //! in-scattered radiance (Henyey–Greenstein phase, attenuation along both legs) into a
 //! low-resolution RGBA32F target. Units: docs/units.md.
 //!
+//! With `effects.godray_method = "footprint"`, each beam is instead a ribbon as wide as its
+//! refracted cell's cross-section (glsl/godrays/godrays_footprint.geom), through the geometry
+//! shader only: the width comes from the neighbouring photons one invocation casts.
+//!
 //! Or, with `effects.godray_method = "marched"`, the cheap end of the trade: one fullscreen
 //! draw over the same target in which each pixel marches its view ray through the water
 //! (glsl/godrays/godrays_marched.frag): single scattering through flat water, shadowed by the
@@ -14,7 +18,7 @@ use crate::passes::photon_records::PhotonRecords;
 use crate::passes::{require_accumulation_format, PhotonPath, ACCUMULATION_FORMAT, PHOTON_SETS};
 use crate::scene::{Effects, GodrayMethod};
 use crate::shader_abi::bindings as b;
-use crate::shader_math::GODRAY_MAX_SUBDIVISION;
+use crate::shader_math::{GODRAY_FOOTPRINT_MAX_SUBDIVISION, GODRAY_MAX_SUBDIVISION};
 use crate::shaders;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
@@ -69,7 +73,24 @@ impl GodraysPass {
         let (grid, subdivision, method) = (effects.godray_grid, effects.godray_subdivision, effects.godray_method);
         let path = if path == PhotonPath::SplatFloor { PhotonPath::GeometryShader } else { path };
         // The march casts no beams: there is nothing to record.
-        let record_photons = record_photons && method == GodrayMethod::Beams;
+        let record_photons = record_photons && method.casts_beams();
+        if method == GodrayMethod::Footprint && path != PhotonPath::GeometryShader {
+            return Err(Error::InvalidParameter {
+                name: "godray_method",
+                message: format!(
+                    "\"footprint\" needs the geometry-shader photon path (asked: {}): a beam's width comes from the photons one invocation casts",
+                    path.name()
+                ),
+            });
+        }
+        if method == GodrayMethod::Footprint && subdivision > GODRAY_FOOTPRINT_MAX_SUBDIVISION {
+            return Err(Error::InvalidParameter {
+                name: "godray_subdivision",
+                message: format!(
+                    "{subdivision} is outside 1..={GODRAY_FOOTPRINT_MAX_SUBDIVISION} for the footprint beams (the geometry shader's output limit)"
+                ),
+            });
+        }
         // The march draws no photons, so it has no photon path of its own.
         let atomics = method == GodrayMethod::Beams && path == PhotonPath::Compute;
         if atomics {
@@ -157,6 +178,14 @@ impl GodraysPass {
                     set_layouts: &set_layouts,
                 };
                 (shaders::compute_pipeline(device, &desc)?, Some(accumulation))
+            }
+            (GodrayMethod::Footprint, _) => {
+                let geometry = if record_photons { "godrays_footprint_debug.geom" } else { "godrays_footprint.geom" };
+                let desc = GraphicsPipelineDesc {
+                    fragment: "godrays_footprint.frag",
+                    ..lines("photon_grid.vert", Some(geometry), vk::PrimitiveTopology::POINT_LIST)
+                };
+                (shaders::graphics_pipeline(device, &desc)?, None)
             }
             _ => {
                 let geometry = if record_photons { "godrays_debug.geom" } else { "godrays.geom" };

@@ -205,6 +205,7 @@ impl From<PhotonSpreadFile> for PhotonSpread {
 #[serde(rename_all = "kebab-case")]
 pub(super) enum GodrayMethodFile {
     Beams,
+    Footprint,
     Marched,
 }
 
@@ -896,6 +897,7 @@ impl EffectsFile {
             godray_method: match self.godray_method {
                 None => d.godray_method,
                 Some(GodrayMethodFile::Beams) => GodrayMethod::Beams,
+                Some(GodrayMethodFile::Footprint) => GodrayMethod::Footprint,
                 Some(GodrayMethodFile::Marched) => GodrayMethod::Marched,
             },
             godray_grid: int("godray_grid", self.godray_grid, d.godray_grid, 1, 4096)?,
@@ -924,6 +926,16 @@ impl EffectsFile {
             iterations: int("iterations", self.iterations, d.iterations, 1, 64)?,
             shadow_map_size: int("shadow_map_size", self.shadow_map_size, d.shadow_map_size, 16, 8192)?,
         };
+        let footprint_max = crate::shader_abi::limits::GODRAY_FOOTPRINT_MAX_SUBDIVISION;
+        if effects.godray_method == GodrayMethod::Footprint && effects.godray_subdivision > footprint_max {
+            return Err(ctx.error(
+                "effects.godray_subdivision",
+                format_args!(
+                    "= {} is out of range for effects.godray_method = \"footprint\": must be <= {footprint_max} (the geometry shader's output limit)",
+                    effects.godray_subdivision
+                ),
+            ));
+        }
         let triangle_max = crate::shader_abi::limits::TRIANGLE_MAX_SUBDIVISION;
         if effects.caustic_estimator == CausticEstimator::Triangles && effects.caustic_subdivision > triangle_max {
             return Err(ctx.error(

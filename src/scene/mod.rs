@@ -151,6 +151,12 @@ pub enum GodrayMethod {
     /// shadows come from the photons.
     #[default]
     Beams,
+    /// The same beams, each drawn as a ribbon facing the camera as wide as its refracted cell's
+    /// cross-section (the survey's illumination volume), its flux spread over that width: a
+    /// density estimate without gaps between lines or light piled on one pixel where beams
+    /// spread (glsl/godrays/godrays_footprint.geom). Geometry-shader path only, subdivision at
+    /// most GODRAY_FOOTPRINT_MAX_SUBDIVISION.
+    Footprint,
     /// Each pixel of the godray target marches its view ray through the water and sums the
     /// single scattering of the light that reaches each step: through flat water (no focusing),
     /// shadowed by the light's position map (glsl/godrays/godrays_marched.frag). Directional
@@ -159,14 +165,21 @@ pub enum GodrayMethod {
 }
 
 impl GodrayMethod {
-    pub const ALL: [GodrayMethod; 2] = [GodrayMethod::Beams, GodrayMethod::Marched];
+    pub const ALL: [GodrayMethod; 3] = [GodrayMethod::Beams, GodrayMethod::Footprint, GodrayMethod::Marched];
 
     /// The name scene files and command lines use.
     pub fn name(self) -> &'static str {
         match self {
             GodrayMethod::Beams => "beams",
+            GodrayMethod::Footprint => "footprint",
             GodrayMethod::Marched => "marched",
         }
+    }
+
+    /// Whether it casts photon beams (lines or ribbons), which the photon density, the flux
+    /// budget and the photon counts concern; the march casts none.
+    pub fn casts_beams(self) -> bool {
+        self != GodrayMethod::Marched
     }
 
     pub fn from_name(name: &str) -> Option<Self> {
