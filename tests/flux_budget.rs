@@ -10,7 +10,7 @@ use underlight::flux_budget::{DropReason, FluxBudget};
 use underlight::frame::uniforms::FrameUniforms;
 use underlight::frame::FrameOptions;
 use underlight::headless::{SceneImages, SceneRenderer};
-use underlight::scene::{CausticEstimator, PhotonSpread, Scene};
+use underlight::scene::{CausticEstimator, GodrayMethod, PhotonSpread, Scene};
 use underlight::vk::vk;
 
 /// One frame of `scene` at 160×100, t = 1 s, with every photon recorded: its images and its
@@ -142,4 +142,31 @@ fn every_beam_is_accounted_for_and_the_view_moves_beams_not_light() {
         );
     }
     assert_clean_shutdown(ctx);
+}
+
+/// The footprint-sized beams (`godray_method = "footprint"`) record through their own
+/// geometry shader (`godrays_footprint_debug.geom`): the same beams as the lines, so the same
+/// records, beam for beam, and the same budget.
+#[test]
+fn footprint_beams_record_the_same_beams_as_lines() {
+    let ctx = validated_context();
+    let mut scene = underlight::scene::load("tank").unwrap();
+    scene.effects.caustics = false;
+    scene.effects.godray_grid = 48;
+    scene.effects.shadow_map_size = 512;
+    let mut records = Vec::new();
+    for method in [GodrayMethod::Beams, GodrayMethod::Footprint] {
+        scene.effects.godray_method = method;
+        let (images, _) = recorded_frame(&ctx, &scene);
+        records.push(images.beam_records.expect("beam records"));
+    }
+    assert_clean_shutdown(ctx);
+    let (lines, ribbons) = (&records[0], &records[1]);
+    assert_eq!(lines.len(), 2 * 96 * 96);
+    // Fate codes and hits equal; the surface point and flux of a dropped beam too (both
+    // shaders record what cast_photon returned).
+    let differing = lines.iter().zip(ribbons.iter()).filter(|(a, b)| a != b).count();
+    assert_eq!(differing, 0, "{differing} of {} records differ between lines and ribbons", lines.len());
+    let drawn = lines.chunks_exact(2).filter(|pair| pair[0][3] > 0.5).count();
+    assert!(drawn > lines.len() / 4, "only {drawn} beams drawn");
 }

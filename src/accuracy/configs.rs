@@ -195,4 +195,33 @@ mod tests {
         assert_eq!(methods(&axes.scenes(&point)), [GodrayMethod::Beams; 3]);
         SweepAxes { godray_method: vec![GodrayMethod::Beams], ..axes }.validate_for(&point).unwrap();
     }
+
+    #[test]
+    fn godray_targets_and_footprint_beams_are_checked_before_any_gpu_work() {
+        let tank = crate::scene::load("tank").unwrap();
+        let axes = SweepAxes {
+            godray_target_scale: vec![0.16, 1.0],
+            godray_method: vec![GodrayMethod::Beams, GodrayMethod::Footprint],
+            ..Default::default()
+        };
+        axes.validate().unwrap();
+        axes.validate_for(&tank).unwrap();
+        let scales: Vec<(GodrayMethod, f32)> =
+            axes.scenes(&tank).iter().map(|s| (s.effects.godray_method, s.effects.godray_target_scale)).collect();
+        assert_eq!(
+            scales,
+            [
+                (GodrayMethod::Beams, 0.16),
+                (GodrayMethod::Footprint, 0.16),
+                (GodrayMethod::Beams, 1.0),
+                (GodrayMethod::Footprint, 1.0)
+            ]
+        );
+        let zero = SweepAxes { godray_target_scale: vec![0.0], ..Default::default() }.validate().unwrap_err();
+        assert!(zero.to_string().contains("--godray-target 0 is out of range"), "{zero}");
+        let mut fine = tank.clone();
+        fine.effects.godray_subdivision = 5;
+        let refused = axes.validate_for(&fine).unwrap_err().to_string();
+        assert!(refused.contains("--godray-method footprint draws at most 4²"), "{refused}");
+    }
 }

@@ -143,14 +143,21 @@ mod tests {
 
     #[test]
     fn godray_methods_are_a_comma_separated_axis_empty_by_default() {
-        let both = sweep(&["--godray-method", "beams,marched"]).unwrap();
-        assert_eq!(both.godray_method, [GodrayMethod::Beams, GodrayMethod::Marched]);
+        let all = sweep(&["--godray-method", "beams,footprint,marched"]).unwrap();
+        assert_eq!(all.godray_method, [GodrayMethod::Beams, GodrayMethod::Footprint, GodrayMethod::Marched]);
         assert_eq!(sweep(&["--godray-method=marched"]).unwrap().godray_method, [GodrayMethod::Marched]);
         assert!(sweep(&[]).unwrap().godray_method.is_empty());
         let wrong = sweep(&["--godray-method", "beams,rays"]).err().expect("accepted rays").to_string();
         assert!(
-            wrong.contains("--godray-method") && wrong.contains("no godray method \"rays\"; there are beams, marched"),
+            wrong.contains("--godray-method")
+                && wrong.contains("no godray method \"rays\"; there are beams, footprint, marched"),
             "{wrong}"
         );
+    }
+
+    #[test]
+    fn godray_targets_are_a_comma_separated_axis() {
+        assert_eq!(sweep(&["--godray-target", "0.16,0.64,1"]).unwrap().godray_target, [0.16, 0.64, 1.0]);
+        assert!(sweep(&[]).unwrap().godray_target.is_empty());
     }
 }
