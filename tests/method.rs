@@ -361,6 +361,18 @@ fn compare_photons_with_twin(model: WaterModel, density: underlight::scene::Phot
     let records = images.photon_records.expect("photon records");
     let light_map = images.light_positions.expect("light map");
     let light_normals = images.light_normals.expect("light normal map");
+    // The normal map is 8-bit signed normalised where the device renders to it
+    // (`shadow::normal_format`): every stored normal reads back within a byte's rounding of
+    // unit length, and the floor's points straight up.
+    let stored: Vec<f32> = light_normals
+        .pixels
+        .iter()
+        .map(|n| (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt())
+        .filter(|&len| len > 0.5)
+        .collect();
+    assert!(stored.len() > light_normals.pixels.len() / 4, "{} normals stored", stored.len());
+    assert!(stored.iter().all(|len| (len - 1.0).abs() < 0.02), "a stored normal is not unit length");
+    assert!(light_normals.pixels.iter().any(|n| n[1] > 0.99), "no floor normal reads straight up");
 
     let mut uniforms = FrameUniforms::new(&scene, scene.bounds(), &extents, time);
     if density == underlight::scene::PhotonSpread::View {

@@ -113,6 +113,7 @@ pub fn texel_size(format: vk::Format) -> Option<usize> {
         vk::Format::R16G16B16A16_SFLOAT => 8,
         vk::Format::R32G32B32A32_SFLOAT => 16,
         vk::Format::R8G8B8A8_UNORM
+        | vk::Format::R8G8B8A8_SNORM
         | vk::Format::R8G8B8A8_SRGB
         | vk::Format::B8G8R8A8_UNORM
         | vk::Format::B8G8R8A8_SRGB

@@ -135,6 +135,14 @@ impl Readback {
                     [c(0), c(1), c(2), c(3)]
                 })
                 .collect(),
+            // Signed normalised: −128 and −127 both read as −1 (the Vulkan rule).
+            vk::Format::R8G8B8A8_SNORM => bytes
+                .chunks_exact(4)
+                .map(|t| {
+                    let c = |i: usize| (t[i] as i8 as f32 / 127.0).max(-1.0);
+                    [c(0), c(1), c(2), c(3)]
+                })
+                .collect(),
             vk::Format::R32_SFLOAT | vk::Format::D32_SFLOAT => bytes
                 .chunks_exact(4)
                 .map(|t| {
