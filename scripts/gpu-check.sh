@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The project's GPU check in one command: the paper's four configurations and the shipped
-# triangles on every photon path, the scaling curves, and the shipped settings' accuracy
-# on the three built-in scenes against the CPU reference. Output: one JSON file and one
+# triangles on every photon path, the scaling curves, the three godray methods (lines,
+# footprint ribbons, ray march) in one run, and the shipped settings' accuracy on the three
+# built-in scenes against the CPU reference. Output: one JSON file and one
 # Markdown file (docs/performance.md, "On a GPU", says how to read them).
 #
 #   Here, before the device is lent:   bash scripts/gpu-check.sh --prepare
@@ -63,11 +64,13 @@ if [ -d .gpu/reference ]; then cache_args=(--cache .gpu/reference); fi
 
 if [ "$mode" = quick ]; then
   configs=tiny
+  godray_configs=""
   frames=(--frames 2 --warmup 1)
   scenes=(tank)
   sweep_axes=(--width 96 --height 60 --grid 24 --subdiv 3 --estimator triangles --filter on --photons 200000 --beams 50000)
 else
   configs=paper-800,paper-1440,paper-1m-photons,paper-1440-high,triangles-800
+  godray_configs=triangles-800,footprint-800,marched-800
   frames=(--frames 20 --warmup 3)
 fi
 
@@ -76,6 +79,10 @@ start=$(date +%s)
 "$bin" devices | tee "$out/devices.txt"
 echo "== bench: $configs, every photon path, scaling"
 "$bin" bench --config "$configs" "${frames[@]}" --compare-paths --scaling --json "$out/bench.json" | tee "$out/bench.txt"
+if [ -n "$godray_configs" ]; then
+  echo "== bench: the godray methods, $godray_configs"
+  "$bin" bench --config "$godray_configs" "${frames[@]}" --json "$out/bench-godrays.json" | tee "$out/bench-godrays.txt"
+fi
 for scene in "${scenes[@]}"; do
   echo "== accuracy: $scene at the shipped settings"
   "$bin" sweep --scene "$scene" "${sweep_axes[@]}" --frames 5 --warmup 2 "${cache_args[@]}" --out "$out/sweep-$scene" \
@@ -88,6 +95,10 @@ seconds=$(( $(date +%s) - start ))
   printf '{\n  "seconds": %d,\n  "devices": %s,\n  "bench": ' "$seconds" \
     "$(sed 's/\\/\\\\/g; s/"/\\"/g' "$out/devices.txt" | awk 'BEGIN{printf "\""} {printf "%s\\n", $0} END{printf "\""}')"
   cat "$out/bench.json"
+  if [ -n "$godray_configs" ]; then
+    printf ',\n  "godray_methods": '
+    cat "$out/bench-godrays.json"
+  fi
   printf ',\n  "accuracy": {'
   sep=""
   for scene in "${scenes[@]}"; do
@@ -111,6 +122,14 @@ seconds=$(( $(date +%s) - start ))
   echo '```'
   cat "$out/bench.txt"
   echo '```'
+  if [ -n "$godray_configs" ]; then
+    echo
+    echo "## The godray methods"
+    echo
+    echo '```'
+    cat "$out/bench-godrays.txt"
+    echo '```'
+  fi
   for scene in "${scenes[@]}"; do
     echo
     echo "## Accuracy: $scene"
