@@ -39,12 +39,13 @@ fn viewer_sessions_under_xvfb() {
     std::fs::create_dir_all(&dir).unwrap();
 
     // 1. A scripted session. Frames: 3 + 2 + (2 while minimised: none presented) + 2 + 2 + 2
-    //    + 1 + 1 + 1 = 14 presented.
+    //    + 1 + 1 + 1 + 1 = 15 presented.
     let shot = dir.join("scripted.png");
     let script = format!(
         "frames:3,resize:320x200,frames:2,minimize,frames:2,restore,frames:2,toggle:caustics,frames:2,\
          toggle:caustics,toggle:godrays,water,amplitude:2,move:0.2/0/0.5,look:20/-10,frames:2,\
-         preset:high,frames:1,preset:default,toggle:godrays,screenshot:{},frames:1,density,estimator,frames:1",
+         preset:high,frames:1,preset:default,toggle:godrays,screenshot:{},frames:1,density,estimator,frames:1,\
+         godray-method,frames:1",
         shot.display()
     );
     // A sweep of the tank at its shipped setting: the timing line shows its measured error.
@@ -94,12 +95,15 @@ fn viewer_sessions_under_xvfb() {
         &script,
     ]);
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(stdout.contains("presented 14 frames"), "{stdout}");
+    assert!(stdout.contains("presented 15 frames"), "{stdout}");
     assert!(stdout.contains("est. error 0.66 (sweep: triangles 100² × 3²)"), "no error estimate in:\n{stdout}");
     // The estimator step switched to the one the tank does not ship.
     let shipped = underlight::scene::load("tank").unwrap().effects.caustic_estimator;
     let other = underlight::scene::CausticEstimator::ALL.into_iter().find(|e| *e != shipped).unwrap();
     assert!(stdout.contains(&format!("caustic estimator: {}", other.name())), "{stdout}");
+    // The godray-method step switched the tank's lines to the footprint ribbons, and the frame
+    // after it drew them.
+    assert!(stdout.contains("godray method: footprint"), "{stdout}");
     // The density step switched the tank's photons from the view's density to the even grid.
     assert!(stdout.contains("caustic photon density: even"), "{stdout}");
     // The timing line names every pass of the frame plus the blit to the window.

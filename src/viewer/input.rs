@@ -13,7 +13,7 @@ use winit::keyboard::KeyCode;
 /// Printed when the window opens.
 pub(super) const KEYS_HELP: &str =
     "keys: WASD/QE move (Shift faster), right-drag or arrows look, 1/2/3 caustics/godrays/filter, \
-     4 caustic estimator, 5/6 caustic photon / godray beam density, \
+     4 caustic estimator, 5/6 caustic photon / godray beam density, 7 godray method, \
      M water model, +/- amplitude, P pause, N step, H/L high/default preset, R reset camera, \
      I settings, F12 screenshot, Esc quit";
 
@@ -95,6 +95,7 @@ impl Live {
             KeyCode::Digit4 => self.next_estimator()?,
             KeyCode::Digit5 => self.next_photon_density(false)?,
             KeyCode::Digit6 => self.next_photon_density(true)?,
+            KeyCode::Digit7 => self.next_godray_method()?,
             KeyCode::KeyM => self.next_water(),
             KeyCode::Equal | KeyCode::NumpadAdd => self.scale_amplitude(1.25),
             KeyCode::Minus | KeyCode::NumpadSubtract => self.scale_amplitude(0.8),
@@ -142,6 +143,29 @@ impl Live {
         self.gpu.rebuild_current(&self.view.scene)
     }
 
+    /// The next godray method (the paper's lines, footprint ribbons, the ray march). The march
+    /// needs a directional light, so a point light's scene skips it; the ribbons' geometry
+    /// shader takes at most GODRAY_FOOTPRINT_MAX_SUBDIVISION, and a finer subdivision is
+    /// lowered to it.
+    pub(super) fn next_godray_method(&mut self) -> Result<()> {
+        use crate::scene::{GodrayMethod, LightKind};
+        let point_light = self.view.scene.light.kind == LightKind::Point;
+        let e = &mut self.view.scene.effects;
+        e.godray_method = match e.godray_method {
+            GodrayMethod::Beams => GodrayMethod::Footprint,
+            GodrayMethod::Footprint if point_light => GodrayMethod::Beams,
+            GodrayMethod::Footprint => GodrayMethod::Marched,
+            GodrayMethod::Marched => GodrayMethod::Beams,
+        };
+        let max = crate::shader_math::GODRAY_FOOTPRINT_MAX_SUBDIVISION;
+        if e.godray_method == GodrayMethod::Footprint && e.godray_subdivision > max {
+            println!("godray subdivision {} lowered to {max} for the footprint beams", e.godray_subdivision);
+            e.godray_subdivision = max;
+        }
+        println!("godray method: {}", e.godray_method.name());
+        self.gpu.rebuild_current(&self.view.scene)
+    }
+
     /// The caustic photons (or, `beams`, the godray beams) on the even grid or spread as the
     /// view needs them (rebuilt: the frame surveys the scene's triangles only for the second).
     pub(super) fn next_photon_density(&mut self, beams: bool) -> Result<()> {
@@ -175,6 +199,7 @@ impl Live {
                 e.caustic_estimator = d.caustic_estimator;
                 e.caustic_photon_density = d.caustic_photon_density;
                 e.godray_photon_density = d.godray_photon_density;
+                e.godray_method = d.godray_method;
                 e.godray_grid = d.godray_grid;
                 e.godray_subdivision = d.godray_subdivision;
                 e.point_size_min = d.point_size_min;
@@ -209,7 +234,7 @@ impl View {
         let e = &s.effects;
         println!(
             "scene {:?}: camera {:.2} yaw {:.1}° pitch {:.1}°; water {:?} amplitude {} m; caustics {} ({}²×{}², {}, {} photons), \
-             godrays {} ({}²×{}²), filter {}; points {}–{} px; time {:.2} s{}",
+             godrays {} ({}, {}²×{}²), filter {}; points {}–{} px; time {:.2} s{}",
             s.name,
             self.camera.position,
             self.camera.yaw.to_degrees(),
@@ -222,6 +247,7 @@ impl View {
             e.caustic_estimator.name(),
             e.caustic_photon_density.name(),
             e.godrays,
+            e.godray_method.name(),
             e.godray_grid,
             e.godray_subdivision,
             e.filter,

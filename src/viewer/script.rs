@@ -22,6 +22,8 @@ pub enum Step {
     Toggle(Effect),
     /// Switch to the next caustic estimator (the paper's points, triangles).
     NextEstimator,
+    /// Switch to the next godray method (lines, footprint ribbons, ray march).
+    NextGodrayMethod,
     /// Switch the caustic photons (false) or the godray beams (true) between the even grid
     /// and the view's density.
     NextPhotonDensity(bool),
@@ -82,6 +84,7 @@ pub fn parse(text: &str) -> Result<Vec<Step>> {
             }),
             "water" => Step::NextWater,
             "estimator" => Step::NextEstimator,
+            "godray-method" => Step::NextGodrayMethod,
             "density" => Step::NextPhotonDensity(match arg {
                 "" | "caustics" => false,
                 "godrays" => true,
@@ -103,7 +106,7 @@ pub fn parse(text: &str) -> Result<Vec<Step>> {
             }),
             "screenshot" if !arg.is_empty() => Step::Screenshot(arg.to_string()),
             _ => bail!(
-                "{}: unknown step; steps are frames:N, resize:WxH, minimize, restore, toggle:EFFECT, estimator, density[:caustics|godrays], water, \
+                "{}: unknown step; steps are frames:N, resize:WxH, minimize, restore, toggle:EFFECT, estimator, godray-method, density[:caustics|godrays], water, \
                  amplitude:F, move:R/U/F, look:YAW/PITCH, preset:default|high, screenshot:PATH",
                 bad()
             ),
@@ -162,6 +165,7 @@ impl Live {
                 }
                 Step::Toggle(effect) => self.toggle(effect)?,
                 Step::NextEstimator => self.next_estimator()?,
+                Step::NextGodrayMethod => self.next_godray_method()?,
                 Step::NextPhotonDensity(beams) => self.next_photon_density(beams)?,
                 Step::NextWater => self.next_water(),
                 Step::Amplitude(f) => self.scale_amplitude(f),
@@ -185,6 +189,8 @@ mod tests {
         assert_eq!(s.len(), 11);
         assert_eq!(s[1], Step::Resize(320, 240));
         assert_eq!(s[7], Step::Move(0.0, 0.0, 1.0));
+        let s = parse("estimator,godray-method,density:godrays").unwrap();
+        assert_eq!(s, [Step::NextEstimator, Step::NextGodrayMethod, Step::NextPhotonDensity(true)]);
         for bad in ["frames:x", "resize:10", "toggle:fog", "move:1/2", "amplitude:nan", "jump"] {
             let e = parse(bad).unwrap_err().to_string();
             assert!(e.contains("script step 1"), "{bad}: {e}");
