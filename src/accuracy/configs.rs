@@ -62,7 +62,7 @@ impl SweepAxes {
                 scene.name
             );
         }
-        let footprint_max = crate::shader_math::GODRAY_FOOTPRINT_MAX_SUBDIVISION;
+        let footprint_max = GodrayMethod::Footprint.max_subdivision();
         if self.godray_method.contains(&GodrayMethod::Footprint) && scene.effects.godray_subdivision > footprint_max {
             bail!(
                 "--godray-method footprint draws at most {footprint_max}² beams per cell, and scene {:?} has godray_subdivision = {}",
@@ -128,9 +128,7 @@ impl SweepAxes {
                                         fx.godray_method = godray_method;
                                         // The triangle estimator's subdivision bound (its
                                         // geometry shader's output limit) skips larger ones.
-                                        if estimator == CausticEstimator::Triangles
-                                            && sub > crate::shader_math::TRIANGLE_MAX_SUBDIVISION
-                                        {
+                                        if sub > estimator.max_subdivision() {
                                             continue;
                                         }
                                         // The marched godrays need a directional light: a point

@@ -10,7 +10,6 @@ use crate::passes::photon_records::PhotonRecords;
 use crate::passes::{require_accumulation_format, PhotonPath, ACCUMULATION_FORMAT, PHOTON_SETS};
 use crate::scene::CausticEstimator;
 use crate::shader_abi::bindings as b;
-use crate::shader_math::{MAX_SUBDIVISION, TRIANGLE_MAX_SUBDIVISION};
 use crate::shaders;
 use crate::vk::buffer::Buffer;
 use crate::vk::descriptors::{Binding, DescriptorSets, Resource};
@@ -84,18 +83,14 @@ impl CausticsPass {
                 ),
             });
         }
-        if triangles && subdivision > TRIANGLE_MAX_SUBDIVISION {
+        let max = estimator.max_subdivision();
+        if subdivision == 0 || subdivision > max {
             return Err(Error::InvalidParameter {
                 name: "caustic_subdivision",
                 message: format!(
-                    "{subdivision} is outside 1..={TRIANGLE_MAX_SUBDIVISION} for the triangle estimator (the geometry shader's output limit)"
+                    "{subdivision} is outside 1..={max} for the {} estimator (its geometry shader's output limit)",
+                    estimator.name()
                 ),
-            });
-        }
-        if subdivision == 0 || subdivision > MAX_SUBDIVISION {
-            return Err(Error::InvalidParameter {
-                name: "caustic_subdivision",
-                message: format!("{subdivision} is outside 1..={MAX_SUBDIVISION}"),
             });
         }
         if path == PhotonPath::Compute {

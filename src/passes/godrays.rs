@@ -18,7 +18,6 @@ use crate::passes::photon_records::PhotonRecords;
 use crate::passes::{require_accumulation_format, PhotonPath, ACCUMULATION_FORMAT, PHOTON_SETS};
 use crate::scene::{Effects, GodrayMethod};
 use crate::shader_abi::bindings as b;
-use crate::shader_math::{GODRAY_FOOTPRINT_MAX_SUBDIVISION, GODRAY_MAX_SUBDIVISION};
 use crate::shaders;
 use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
@@ -83,23 +82,19 @@ impl GodraysPass {
                 ),
             });
         }
-        if method == GodrayMethod::Footprint && subdivision > GODRAY_FOOTPRINT_MAX_SUBDIVISION {
-            return Err(Error::InvalidParameter {
-                name: "godray_subdivision",
-                message: format!(
-                    "{subdivision} is outside 1..={GODRAY_FOOTPRINT_MAX_SUBDIVISION} for the footprint beams (the geometry shader's output limit)"
-                ),
-            });
-        }
         // The march draws no photons, so it has no photon path of its own.
         let atomics = method == GodrayMethod::Beams && path == PhotonPath::Compute;
         if atomics {
             require_float_atomics(device)?;
         }
-        if subdivision == 0 || subdivision > GODRAY_MAX_SUBDIVISION {
+        let max = method.max_subdivision();
+        if subdivision == 0 || subdivision > max {
             return Err(Error::InvalidParameter {
                 name: "godray_subdivision",
-                message: format!("{subdivision} is outside 1..={GODRAY_MAX_SUBDIVISION}"),
+                message: format!(
+                    "{subdivision} is outside 1..={max} for the {} godrays (their geometry shader's output limit)",
+                    method.name()
+                ),
             });
         }
         let [lo, hi] = device.limits().line_width_range;
@@ -130,7 +125,8 @@ impl GodraysPass {
         )?;
         let specialization = [(0, subdivision)];
         let set_layouts = [sets.layout];
-        let lines = |vertex, geometry, topology| GraphicsPipelineDesc {
+        // The photon beams' draws, lines or ribbons, adding into the target.
+        let beam_pipeline = |vertex, geometry, topology| GraphicsPipelineDesc {
             geometry,
             topology,
             blend: Blend::Additive,
@@ -161,7 +157,7 @@ impl GodraysPass {
             (_, PhotonPath::VertexOnly) => (
                 shaders::graphics_pipeline(
                     device,
-                    &lines("godrays_vertex.vert", None, vk::PrimitiveTopology::LINE_LIST),
+                    &beam_pipeline("godrays_vertex.vert", None, vk::PrimitiveTopology::LINE_LIST),
                 )?,
                 None,
             ),
@@ -183,13 +179,13 @@ impl GodraysPass {
                 let geometry = if record_photons { "godrays_footprint_debug.geom" } else { "godrays_footprint.geom" };
                 let desc = GraphicsPipelineDesc {
                     fragment: "godrays_footprint.frag",
-                    ..lines("photon_grid.vert", Some(geometry), vk::PrimitiveTopology::POINT_LIST)
+                    ..beam_pipeline("photon_grid.vert", Some(geometry), vk::PrimitiveTopology::POINT_LIST)
                 };
                 (shaders::graphics_pipeline(device, &desc)?, None)
             }
             _ => {
                 let geometry = if record_photons { "godrays_debug.geom" } else { "godrays.geom" };
-                let desc = lines("photon_grid.vert", Some(geometry), vk::PrimitiveTopology::POINT_LIST);
+                let desc = beam_pipeline("photon_grid.vert", Some(geometry), vk::PrimitiveTopology::POINT_LIST);
                 (shaders::graphics_pipeline(device, &desc)?, None)
             }
         };

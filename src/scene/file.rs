@@ -926,25 +926,33 @@ impl EffectsFile {
             iterations: int("iterations", self.iterations, d.iterations, 1, 64)?,
             shadow_map_size: int("shadow_map_size", self.shadow_map_size, d.shadow_map_size, 16, 8192)?,
         };
-        let footprint_max = crate::shader_abi::limits::GODRAY_FOOTPRINT_MAX_SUBDIVISION;
-        if effects.godray_method == GodrayMethod::Footprint && effects.godray_subdivision > footprint_max {
-            return Err(ctx.error(
-                "effects.godray_subdivision",
-                format_args!(
-                    "= {} is out of range for effects.godray_method = \"footprint\": must be <= {footprint_max} (the geometry shader's output limit)",
-                    effects.godray_subdivision
-                ),
-            ));
-        }
-        let triangle_max = crate::shader_abi::limits::TRIANGLE_MAX_SUBDIVISION;
-        if effects.caustic_estimator == CausticEstimator::Triangles && effects.caustic_subdivision > triangle_max {
-            return Err(ctx.error(
-                "effects.caustic_subdivision",
-                format_args!(
-                    "= {} is out of range for effects.caustic_estimator = \"triangles\": must be <= {triangle_max} (the geometry shader's output limit)",
-                    effects.caustic_subdivision
-                ),
-            ));
+        // The estimator's and the godray method's own geometry shaders may emit fewer photons
+        // per invocation than the ranges above allow.
+        let own_bounds = [
+            (
+                "caustic",
+                "caustic_estimator",
+                effects.caustic_subdivision,
+                effects.caustic_estimator.name(),
+                effects.caustic_estimator.max_subdivision(),
+            ),
+            (
+                "godray",
+                "godray_method",
+                effects.godray_subdivision,
+                effects.godray_method.name(),
+                effects.godray_method.max_subdivision(),
+            ),
+        ];
+        for (kind, setting, value, name, max) in own_bounds {
+            if value > max {
+                return Err(ctx.error(
+                    &format!("effects.{kind}_subdivision"),
+                    format_args!(
+                        "= {value} is out of range for effects.{setting} = \"{name}\": must be <= {max} (the geometry shader's output limit)"
+                    ),
+                ));
+            }
         }
         if effects.point_size_max < effects.point_size_min {
             return Err(ctx.error(

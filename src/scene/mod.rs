@@ -139,6 +139,15 @@ impl CausticEstimator {
     pub fn from_name(name: &str) -> Option<Self> {
         Self::ALL.into_iter().find(|e| e.name() == name)
     }
+
+    /// The largest `caustic_subdivision` its geometry shader emits (`shader_abi::limits`).
+    pub fn max_subdivision(self) -> u32 {
+        use crate::shader_abi::limits as l;
+        match self {
+            CausticEstimator::Paper => l::MAX_SUBDIVISION,
+            CausticEstimator::Triangles => l::TRIANGLE_MAX_SUBDIVISION,
+        }
+    }
 }
 
 /// How the godrays pass computes the light the water scatters towards the camera
@@ -180,6 +189,16 @@ impl GodrayMethod {
     /// budget and the photon counts concern; the march casts none.
     pub fn casts_beams(self) -> bool {
         self != GodrayMethod::Marched
+    }
+
+    /// The largest `godray_subdivision` its geometry shader emits (`shader_abi::limits`); the
+    /// march casts no photons and takes the lines' bound.
+    pub fn max_subdivision(self) -> u32 {
+        use crate::shader_abi::limits as l;
+        match self {
+            GodrayMethod::Footprint => l::GODRAY_FOOTPRINT_MAX_SUBDIVISION,
+            GodrayMethod::Beams | GodrayMethod::Marched => l::GODRAY_MAX_SUBDIVISION,
+        }
     }
 
     pub fn from_name(name: &str) -> Option<Self> {

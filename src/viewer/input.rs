@@ -125,8 +125,8 @@ impl Live {
         self.gpu.rebuild_current(&self.view.scene)
     }
 
-    /// The next caustic estimator (paper's points, triangles). The triangles' geometry shader
-    /// takes at most TRIANGLE_MAX_SUBDIVISION; a finer subdivision is lowered to it.
+    /// The next caustic estimator (paper's points, triangles). A subdivision finer than the
+    /// estimator's geometry shader takes (`CausticEstimator::max_subdivision`) is lowered to it.
     pub(super) fn next_estimator(&mut self) -> Result<()> {
         use crate::scene::CausticEstimator;
         let e = &mut self.view.scene.effects;
@@ -134,9 +134,13 @@ impl Live {
             CausticEstimator::Paper => CausticEstimator::Triangles,
             CausticEstimator::Triangles => CausticEstimator::Paper,
         };
-        let max = crate::shader_math::TRIANGLE_MAX_SUBDIVISION;
-        if e.caustic_estimator == CausticEstimator::Triangles && e.caustic_subdivision > max {
-            println!("caustic subdivision {} lowered to {max} for the triangle estimator", e.caustic_subdivision);
+        let max = e.caustic_estimator.max_subdivision();
+        if e.caustic_subdivision > max {
+            println!(
+                "caustic subdivision {} lowered to {max} for the {} estimator",
+                e.caustic_subdivision,
+                e.caustic_estimator.name()
+            );
             e.caustic_subdivision = max;
         }
         println!("caustic estimator: {}", e.caustic_estimator.name());
@@ -144,9 +148,8 @@ impl Live {
     }
 
     /// The next godray method (the paper's lines, footprint ribbons, the ray march). The march
-    /// needs a directional light, so a point light's scene skips it; the ribbons' geometry
-    /// shader takes at most GODRAY_FOOTPRINT_MAX_SUBDIVISION, and a finer subdivision is
-    /// lowered to it.
+    /// needs a directional light, so a point light's scene skips it. A subdivision finer than
+    /// the method's geometry shader takes (`GodrayMethod::max_subdivision`) is lowered to it.
     pub(super) fn next_godray_method(&mut self) -> Result<()> {
         use crate::scene::{GodrayMethod, LightKind};
         let point_light = self.view.scene.light.kind == LightKind::Point;
@@ -157,9 +160,13 @@ impl Live {
             GodrayMethod::Footprint => GodrayMethod::Marched,
             GodrayMethod::Marched => GodrayMethod::Beams,
         };
-        let max = crate::shader_math::GODRAY_FOOTPRINT_MAX_SUBDIVISION;
-        if e.godray_method == GodrayMethod::Footprint && e.godray_subdivision > max {
-            println!("godray subdivision {} lowered to {max} for the footprint beams", e.godray_subdivision);
+        let max = e.godray_method.max_subdivision();
+        if e.godray_subdivision > max {
+            println!(
+                "godray subdivision {} lowered to {max} for the {} godrays",
+                e.godray_subdivision,
+                e.godray_method.name()
+            );
             e.godray_subdivision = max;
         }
         println!("godray method: {}", e.godray_method.name());
