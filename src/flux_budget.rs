@@ -204,13 +204,11 @@ impl FluxBudget {
     }
 }
 
-/// GLSL `CAUSTIC_DEPTH_TOLERANCE` (photon_visibility.glsl): relative, and in metres.
-const CAUSTIC_DEPTH_TOLERANCE: f64 = 0.02;
-
 /// The nearest a surface may lie along the camera's ray before it hides a hit at `distance`:
 /// `behind_scene`'s test, distance > scene·(1 + tolerance) + tolerance, solved for the scene.
 fn nearest_seen(distance: f64) -> f64 {
-    (distance - CAUSTIC_DEPTH_TOLERANCE) / (1.0 + CAUSTIC_DEPTH_TOLERANCE)
+    let tolerance = crate::shader_math::CAUSTIC_DEPTH_TOLERANCE as f64;
+    (distance - tolerance) / (1.0 + tolerance)
 }
 
 /// The share of the segment a → b (world space) inside the camera's view volume: clip space

@@ -212,6 +212,11 @@ pub const WATER_NOISE_FEATURE: f32 = 1.0 / 16.0;
 /// residual per metre of distance.
 pub const ITERATION_RESIDUAL: f32 = 1e-5;
 
+/// GLSL `CAUSTIC_DEPTH_TOLERANCE` (photon_visibility.glsl): how far behind the scene's depth a
+/// caustic splat may lie and still count as on its receiver, relative and in metres
+/// (`behind_scene`: depth > scene·(1 + t) + t).
+pub const CAUSTIC_DEPTH_TOLERANCE: f32 = 0.02;
+
 /// GLSL `water_height_above_surface`.
 fn water_height_above_surface(w: &WaterParams, noise: &NoiseTexture, o: Vec3, d: Vec3, t: f32, time: f32) -> f32 {
     let p = o + t * d;
@@ -675,6 +680,43 @@ impl PhotonCaster<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The constants this file mirrors by hand hold the same values as their GLSL originals
+    /// (a shader edited alone would leave the twin, and the tests comparing with it, behind).
+    #[test]
+    fn mirrored_constants_match_the_glsl() {
+        let sources = [
+            include_str!("../glsl/shared/shader_math.glsl"),
+            include_str!("../glsl/photons/photon_cast.glsl"),
+            include_str!("../glsl/photons/photon_visibility.glsl"),
+        ];
+        // `const float|int NAME = A;` or `= A / B;`, evaluated.
+        let glsl = |name: &str| -> f64 {
+            let line = sources
+                .iter()
+                .flat_map(|s| s.lines())
+                .find(|l| l.starts_with("const ") && l.contains(&format!(" {name} = ")))
+                .unwrap_or_else(|| panic!("no GLSL constant {name}"));
+            let value = line.split(" = ").nth(1).unwrap().trim_end_matches(';').trim();
+            let number = |t: &str| t.trim().parse::<f64>().unwrap_or_else(|_| panic!("{name}: {t:?}"));
+            match value.split_once('/') {
+                Some((a, b)) => number(a) / number(b),
+                None => number(value),
+            }
+        };
+        let twins: [(&str, f64); 6] = [
+            ("WATER_MAX_MARCH_STEPS", WATER_MAX_MARCH_STEPS as f64),
+            ("WATER_REFINE_STEPS", WATER_REFINE_STEPS as f64),
+            ("WATER_REFINE_RESIDUAL", WATER_REFINE_RESIDUAL as f64),
+            ("WATER_NOISE_FEATURE", WATER_NOISE_FEATURE as f64),
+            ("ITERATION_RESIDUAL", ITERATION_RESIDUAL as f64),
+            ("CAUSTIC_DEPTH_TOLERANCE", CAUSTIC_DEPTH_TOLERANCE as f64),
+        ];
+        for (name, rust) in twins {
+            let g = glsl(name);
+            assert!((g - rust).abs() <= 1e-7 * g.abs().max(1.0), "{name}: GLSL {g}, Rust {rust}");
+        }
+    }
 
     fn water(model: WaterModel) -> WaterParams {
         WaterParams {

@@ -56,40 +56,38 @@ vec3 ribbon_across(vec3 world, vec3 direction) {
     return normalize(cross(direction, other));
 }
 
-// σs · p_HG(θ) · Φ · e^(−γ·(d_surface + d_view)) / (r² · Ω) / E_surface: the beam's
-// in-scattered radiance per metre of beam per pixel it covers, before the estimator's kernel.
-// world: the fragment's point on the beam; from_surface: its distance from where the beam
-// entered the water, m; direction: the beam's unit direction; flux: W after the surface;
-// view_depth: distance along the camera axis, m.
-vec3 beam_scattered(vec3 world, float from_surface, vec3 direction, float flux, float view_depth) {
+// σs · p_HG(θ) · Φ · e^(−γ·(d_surface + d_view)) / E_surface: the beam's in-scattered
+// intensity per metre of beam (before the estimator's kernel spreads it over pixels), and
+// cos θ. world: the fragment's point on the beam; from_surface: its distance from where the
+// beam entered the water, m; direction: the beam's unit direction; flux: W after the surface.
+vec3 beam_in_scattering(vec3 world, float from_surface, vec3 direction, float flux, out float cos_t) {
     vec3 to_cam = frame.camera_position - world;
-    float r = max(length(to_cam), 1e-6);
-    float cos_t = dot(direction, to_cam / r);
-    float p = godray_pixel_angle();
-    // Ω = p²·cos³α with cos α = view_depth / r.
-    float cos_a = clamp(view_depth / r, 1e-3, 1.0);
-    float r2_omega = r * r * p * p * cos_a * cos_a * cos_a;
+    cos_t = dot(direction, to_cam / max(length(to_cam), 1e-6));
     vec3 attenuation = water_transmittance(from_surface + view_underwater_length(world));
-    return frame.scattering * henyey_greenstein(cos_t, frame.hg_g) * flux * attenuation
-         / (r2_omega * frame.surface_irradiance);
+    return frame.scattering * henyey_greenstein(cos_t, frame.hg_g) * flux * attenuation / frame.surface_irradiance;
 }
 
-// A line's radiance, L / E_surface (the buffer's unit).
+// A line's radiance, L / E_surface (the buffer's unit); view_depth: distance along the camera
+// axis, m.
 vec3 beam_radiance(vec3 world, float from_surface, vec3 direction, float flux, float view_depth) {
+    float cos_t;
+    vec3 scattered = beam_in_scattering(world, from_surface, direction, flux, cos_t);
     float line_w = clamp(frame.line_width, 1.0, frame.device_max_line_width);
     float pixels_per_metre = max(length(godray_screen_velocity(world, direction)), beam_speed_floor(view_depth));
-    return beam_scattered(world, from_surface, direction, flux, view_depth) / (pixels_per_metre * line_w);
+    // Ω = p²·cos³α with cos α = view_depth / r.
+    float r = max(length(frame.camera_position - world), 1e-6);
+    float p = godray_pixel_angle();
+    float cos_a = clamp(view_depth / r, 1e-3, 1.0);
+    float r2_omega = r * r * p * p * cos_a * cos_a * cos_a;
+    return scattered / (r2_omega * pixels_per_metre * line_w);
 }
 
 // A ribbon's radiance, `width` metres wide at `world`, L / E_surface. A beam seen end-on is
 // held at sin θ = 0.1, the lines' clamp (beam_speed_floor).
 vec3 ribbon_radiance(vec3 world, float from_surface, vec3 direction, float flux, float width) {
-    vec3 to_cam = frame.camera_position - world;
-    float r = max(length(to_cam), 1e-6);
-    float cos_t = dot(direction, to_cam / r);
+    float cos_t;
+    vec3 scattered = beam_in_scattering(world, from_surface, direction, flux, cos_t);
     float sin_t = sqrt(max(1.0 - cos_t * cos_t, 0.0));
-    vec3 attenuation = water_transmittance(from_surface + view_underwater_length(world));
-    return frame.scattering * henyey_greenstein(cos_t, frame.hg_g) * flux * attenuation
-         / (max(width, 1e-9) * max(sin_t, 0.1) * frame.surface_irradiance);
+    return scattered / (max(width, 1e-9) * max(sin_t, 0.1));
 }
 #endif
