@@ -161,10 +161,10 @@ fn triangle_error_falls_as_the_mesh_refines() {
     assert_error_falls(&errors, &variants);
     // Measured: relative RMSE 1.73, 0.92, 0.42; flux −1.4 %, −1.0 %, −0.5 % with the caustics
     // at the output's size and triangles under a pixel over their footprint. Before, with the
-    // caustics at 0.64 of the output: 1.40, 0.68, 0.28; flux −0.1 %, −1.5 %, −0.7 % (+1.1 %, −0.8 %,
-    // −0.0 % before the triangles lit only the side of a receiver the camera sees; before each
-    // triangle deposited its own flux and the fallback points their footprint: 1.58, 0.94,
-    // 0.45 and +5.6 %, +7.1 %, +0.2 %, docs/accuracy.md). A share of a
+    // caustics at 0.64 of the output: 1.40, 0.68, 0.28; flux −0.1 %, −1.5 %, −0.7 %
+    // (+1.1 %, −0.8 %, −0.0 % before the triangles lit only the side of a receiver the camera
+    // sees; before each triangle deposited its own flux and the fallback points their
+    // footprint: 1.58, 0.94, 0.45 and +5.6 %, +7.1 %, +0.2 %, docs/accuracy.md). A share of a
     // third instead of a sixth doubles the flux, a photon flux not ∝ 1/N² scales it by the
     // grid's ratio squared: ±12 % catches both at every grid.
     for (figures, (name, _)) in errors.iter().zip(&variants) {
@@ -179,9 +179,10 @@ fn photons_spread_for_the_view_lower_the_error_and_keep_the_flux() {
     // where they land (frame::photon_density): the near floor's caustic lines are drawn by a
     // finer mesh, the water out of view by a coarser one. Measured on lavapipe: relative RMSE
     // 0.918 even, 0.639 spread; flux −1.0 %, −0.6 % (0.678 and 0.457, −1.5 % and −0.7 %, with
-    // the caustics at 0.64 of the output and triangles under half a pixel over their footprint). A survey that missed the view, or a warp
-    // the shader ignored, leaves the error where it was; photons whose flux did not follow
-    // their warped cells put several times the light where the camera looks.
+    // the caustics at 0.64 of the output and triangles under half a pixel over their
+    // footprint). A survey that missed the view, or a warp the shader ignored, leaves the
+    // error where it was; photons whose flux did not follow their warped cells put several
+    // times the light where the camera looks.
     use underlight::scene::PhotonSpread;
     let variants: Vec<(String, Scene)> = [PhotonSpread::Even, PhotonSpread::View]
         .iter()
