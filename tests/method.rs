@@ -660,6 +660,25 @@ fn folded_wave_profile(scene: &Scene, x0: f64, x1: f64, columns: usize) -> Vec<f
     flux.iter().map(|f| f / ((x1 - x0) / columns as f64)).collect()
 }
 
+/// The camera's view-projection of `scene`'s frame at t = 1 s, with a caustic target of
+/// `caustic` pixels: where a world point lands in the caustic buffer.
+fn camera_view_proj(scene: &Scene, caustic: [u32; 2]) -> glam::Mat4 {
+    let u = underlight::frame::uniforms::FrameUniforms::new(
+        scene,
+        scene.bounds(),
+        &underlight::frame::uniforms::FrameExtents {
+            output: scene.output,
+            caustic,
+            godray: [1, 1],
+            light_map: 1024,
+            max_point_size: 64.0,
+            max_line_width: 1.0,
+        },
+        1.0,
+    );
+    glam::Mat4::from_cols_array_2d(&u.camera_view_proj)
+}
+
 #[test]
 fn the_shipped_estimator_resolves_a_cusp_pair_two_centimetres_apart() {
     // A sinusoidal wave a little past its first fold: each trough focuses the sun into two
@@ -691,20 +710,7 @@ fn the_shipped_estimator_resolves_a_cusp_pair_two_centimetres_apart() {
     assert!(!caustics.has_non_finite());
     let (w, h) = (caustics.width, caustics.height);
     // World x of the image's columns on the floor, from the camera's projection.
-    let u = underlight::frame::uniforms::FrameUniforms::new(
-        &scene,
-        scene.bounds(),
-        &underlight::frame::uniforms::FrameExtents {
-            output: scene.output,
-            caustic: [w, h],
-            godray: [1, 1],
-            light_map: 1024,
-            max_point_size: 64.0,
-            max_line_width: 1.0,
-        },
-        1.0,
-    );
-    let view_proj = glam::Mat4::from_cols_array_2d(&u.camera_view_proj);
+    let view_proj = camera_view_proj(&scene, [w, h]);
     let column_of = |x: f32| {
         let c = view_proj * glam::Vec4::new(x, -FLOOR_DEPTH, 0.0, 1.0);
         (c.x / c.w * 0.5 + 0.5) * w as f32
@@ -816,20 +822,7 @@ fn triangles_cross_a_crease_between_facets_thirty_degrees_apart() {
     assert!(!caustics.has_non_finite());
     let (wd, ht) = (caustics.width, caustics.height);
     // The crease's line in the image, from the camera's projection.
-    let u = underlight::frame::uniforms::FrameUniforms::new(
-        &scene,
-        scene.bounds(),
-        &underlight::frame::uniforms::FrameExtents {
-            output: scene.output,
-            caustic: [wd, ht],
-            godray: [1, 1],
-            light_map: 1024,
-            max_point_size: 64.0,
-            max_line_width: 1.0,
-        },
-        1.0,
-    );
-    let view_proj = glam::Mat4::from_cols_array_2d(&u.camera_view_proj);
+    let view_proj = camera_view_proj(&scene, [wd, ht]);
     let pixel_of = |p: glam::Vec3| {
         let c = view_proj * p.extend(1.0);
         glam::Vec2::new((c.x / c.w * 0.5 + 0.5) * wd as f32, (c.y / c.w * 0.5 + 0.5) * ht as f32)

@@ -134,15 +134,8 @@ impl Live {
             CausticEstimator::Paper => CausticEstimator::Triangles,
             CausticEstimator::Triangles => CausticEstimator::Paper,
         };
-        let max = e.caustic_estimator.max_subdivision();
-        if e.caustic_subdivision > max {
-            println!(
-                "caustic subdivision {} lowered to {max} for the {} estimator",
-                e.caustic_subdivision,
-                e.caustic_estimator.name()
-            );
-            e.caustic_subdivision = max;
-        }
+        let what = format!("the {} estimator", e.caustic_estimator.name());
+        lower_subdivision("caustic", &mut e.caustic_subdivision, e.caustic_estimator.max_subdivision(), &what);
         println!("caustic estimator: {}", e.caustic_estimator.name());
         self.gpu.rebuild_current(&self.view.scene)
     }
@@ -160,15 +153,8 @@ impl Live {
             GodrayMethod::Footprint => GodrayMethod::Marched,
             GodrayMethod::Marched => GodrayMethod::Beams,
         };
-        let max = e.godray_method.max_subdivision();
-        if e.godray_subdivision > max {
-            println!(
-                "godray subdivision {} lowered to {max} for the {} godrays",
-                e.godray_subdivision,
-                e.godray_method.name()
-            );
-            e.godray_subdivision = max;
-        }
+        let what = format!("the {} godrays", e.godray_method.name());
+        lower_subdivision("godray", &mut e.godray_subdivision, e.godray_method.max_subdivision(), &what);
         println!("godray method: {}", e.godray_method.name());
         self.gpu.rebuild_current(&self.view.scene)
     }
@@ -263,5 +249,14 @@ impl View {
             self.time,
             if self.paused { " (paused)" } else { "" }
         );
+    }
+}
+
+/// Lowers a `kind` (caustic, godray) subdivision to `max`, the bound of `what` (its geometry
+/// shader's output limit), saying so.
+fn lower_subdivision(kind: &str, subdivision: &mut u32, max: u32, what: &str) {
+    if *subdivision > max {
+        println!("{kind} subdivision {subdivision} lowered to {max} for {what}");
+        *subdivision = max;
     }
 }
