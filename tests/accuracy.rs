@@ -232,8 +232,9 @@ fn default_settings_error_on_the_tank() {
     // read 0.22; measured 0.066 against 0.172 since the caustic target is the output's 800²).
     // Against the pixels the reference lights with all their neighbours, the share the GPU
     // leaves at zero is measured 0.012 at 512² and 0.017 at 800², on the shelf's front, the
-    // rocks' sides and the floor beside their shadows, where lone photons draw squares; none
-    // on the floors.
+    // rocks' sides and the floor beside their shadows, where lone photons drew squares; none
+    // on the floors. 0.012 at 800² since they draw their cells (docs/accuracy.md, "Handed-back
+    // flux over the photons' cells").
     assert!(gaps <= reference_gaps + 0.005, "gap fraction {gaps:.4} against the reference's {reference_gaps:.4}");
     assert!(holes < 0.02, "{:.1} % of the pixels the reference lights hold nothing", 100.0 * holes);
 }
