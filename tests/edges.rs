@@ -115,8 +115,12 @@ fn a_pillar_silhouette_composes_as_at_full_resolution() {
         let pillar = band(&as_set, pillar_side.clone(), rows.clone());
         let pillar_ref = band(&reference, pillar_side, rows.clone());
         let wall_ref = band(&reference, wall_side.clone(), rows.clone());
-        // The edge is one worth testing: the two sides differ by far more than the tolerance.
-        assert!((pillar_ref / wall_ref - 1.0).abs() > 0.25, "{edge} edge: pillar {pillar_ref:e}, wall {wall_ref:e}");
+        // The edge is one worth testing: the two sides differ by far more than the 5 %
+        // tolerance, three times it at least. Measured at full resolution: the pillar 1.21×
+        // the wall on the left, 1.39× on the right. (1.26× and 1.45× while the photons along
+        // the pillar's edge drew their handed-back flux as squares over the triangles beside
+        // them, which lit the pillar's band 4 % too bright.)
+        assert!((pillar_ref / wall_ref - 1.0).abs() > 0.15, "{edge} edge: pillar {pillar_ref:e}, wall {wall_ref:e}");
         // The wall: each column by itself, where the pillar's light would bleed.
         for x in wall_side {
             let (got, full_res) = (band(&as_set, x..x + 1, rows.clone()), band(&reference, x..x + 1, rows.clone()));
