@@ -141,8 +141,9 @@ float triangle_pixels(int a, int b, int c) {
 }
 
 // The quarters of a photon's cell, by the signs of the grid axes (bit 0: +u, bit 1: +v). A
-// mesh cell's first triangle lies in the +u+v quarter of its lower-left photon's cell, and so on
-// (main): the triangles around a photon cover its cell's quarters.
+// mesh cell lies in the +u+v quarter of its lower-left photon's cell, the −u+v quarter of its
+// lower-right photon's, and so on, whichever diagonal splits it (main): the triangles around a
+// photon cover its cell's quarters.
 const int QUARTER_MINUS_U_MINUS_V = 1, QUARTER_PLUS_U_MINUS_V = 2,
           QUARTER_MINUS_U_PLUS_V = 4, QUARTER_PLUS_U_PLUS_V = 8;
 
@@ -348,6 +349,20 @@ bool emit_footprint(int k, vec3 du, vec3 dv) {
     return true;
 }
 
+// Whether mesh cell (p00, p10, p01, p11) is split along its p00–p11 diagonal rather than its
+// p10–p01 one: the shorter of the two between the photons' hits. That gives the two more
+// compact triangles on the receiver (the Delaunay choice for a quadrilateral), so each
+// triangle's flux is spread over the ground between photons that landed near each other,
+// not along a long thin sliver. Measured against the fixed split, 320×200, t = 1 s: tank
+// 0.421 → 0.419, port 0.506 → 0.503, storage 0.543 → 0.537, tank at 800×800 1.192 → 1.177.
+// The shorter diagonal in pixels read the same; the longer diagonal 0.483 on the tank, and
+// splits that balance or minimise the two triangles' areas 0.467 and 0.437.
+bool split_along_p00_p11(int p00, int p10, int p01, int p11) {
+    if (!(landed[p00] && landed[p10] && landed[p01] && landed[p11])) return false;
+    vec3 d00_11 = hit[p11] - hit[p00], d10_01 = hit[p01] - hit[p10];
+    return dot(d00_11, d00_11) < dot(d10_01, d10_01);
+}
+
 void main() {
     int side = int(SUBDIVISION) + 1;
     float photons_per_axis = float(pc.grid * SUBDIVISION);
@@ -380,20 +395,30 @@ void main() {
             around_count[k] = 0.0;
         }
     }
-    // Mesh cell (i, j) spans photons (i, j), (i+1, j), (i, j+1), (i+1, j+1); its diagonal
-    // runs from (i+1, j) to (i, j+1).
+    // Mesh cell (i, j) spans photons (i, j), (i+1, j), (i, j+1), (i+1, j+1), split along the
+    // shorter diagonal (split_along_p00_p11).
     for (int j = 0; j + 1 < side; ++j) {
         for (int i = 0; i + 1 < side; ++i) {
             int p00 = j * side + i, p10 = p00 + 1, p01 = p00 + side, p11 = p01 + 1;
-            gather_triangle(p00, p10, p01, QUARTER_PLUS_U_PLUS_V, QUARTER_MINUS_U_PLUS_V, QUARTER_PLUS_U_MINUS_V);
-            gather_triangle(p10, p11, p01, QUARTER_MINUS_U_PLUS_V, QUARTER_MINUS_U_MINUS_V, QUARTER_PLUS_U_MINUS_V);
+            if (split_along_p00_p11(p00, p10, p01, p11)) {
+                gather_triangle(p00, p10, p11, QUARTER_PLUS_U_PLUS_V, QUARTER_MINUS_U_PLUS_V, QUARTER_MINUS_U_MINUS_V);
+                gather_triangle(p00, p11, p01, QUARTER_PLUS_U_PLUS_V, QUARTER_MINUS_U_MINUS_V, QUARTER_PLUS_U_MINUS_V);
+            } else {
+                gather_triangle(p00, p10, p01, QUARTER_PLUS_U_PLUS_V, QUARTER_MINUS_U_PLUS_V, QUARTER_PLUS_U_MINUS_V);
+                gather_triangle(p10, p11, p01, QUARTER_MINUS_U_PLUS_V, QUARTER_MINUS_U_MINUS_V, QUARTER_PLUS_U_MINUS_V);
+            }
         }
     }
     for (int j = 0; j + 1 < side; ++j) {
         for (int i = 0; i + 1 < side; ++i) {
             int p00 = j * side + i, p10 = p00 + 1, p01 = p00 + side, p11 = p01 + 1;
-            emit_triangle(p00, p10, p01);
-            emit_triangle(p10, p11, p01);
+            if (split_along_p00_p11(p00, p10, p01, p11)) {
+                emit_triangle(p00, p10, p11);
+                emit_triangle(p00, p11, p01);
+            } else {
+                emit_triangle(p00, p10, p01);
+                emit_triangle(p10, p11, p01);
+            }
         }
     }
     for (int k = 0; k < side * side; ++k) {
