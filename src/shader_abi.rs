@@ -113,8 +113,11 @@ frame_uniforms! {
     /// 1 when the godray beams follow `godray_density_rows`/`columns` (`effects.
     /// godray_photon_density = "view"`), 0 for the paper's even grid.
     godray_density_warped: f32,
-    /// Pads the block to a whole 16 bytes.
-    unused_tail: f32,
+    /// k: the caustic triangles' coarse grid is N/k columns by N·k rows, the same photons as
+    /// N × N, so that their mesh cells are square on screen on average
+    /// (`frame::photon_density`, from the view's survey; 1, the paper's square grid, without
+    /// it). Read by `caustics_triangles.geom` only.
+    caustic_grid_aspect: f32,
     /// The caustic photon grid's warp (`frame::photon_density`): the inverse cumulative
     /// density of the window's v, `PHOTON_DENSITY_KNOTS` knots at grid v = k / SEGMENTS.
     photon_density_rows: [f32; PHOTON_DENSITY_KNOTS],

@@ -466,8 +466,8 @@ pub fn onto_receiver_plane(
 /// `frame::photon_density` (`rows`: the window's v at grid v = k / SEGMENTS; `columns`: per
 /// band of the window's v, the window's u at grid u = k / SEGMENTS, interpolated between the
 /// bands' centres so that the warped grid stays continuous), and the area of the photon's
-/// warped cell (`half_cell` each side of `g`) over the even grid's.
-pub fn photon_density_warp(rows: &[f32], columns: &[f32], g: Vec2, half_cell: f32) -> (Vec2, f32) {
+/// warped cell (`half_cell` each side of `g`, along u and along v) over the even grid's.
+pub fn photon_density_warp(rows: &[f32], columns: &[f32], g: Vec2, half_cell: Vec2) -> (Vec2, f32) {
     use crate::shader_abi::{PHOTON_DENSITY_KNOTS as KNOTS, PHOTON_DENSITY_SEGMENTS as SEGMENTS};
     let s = SEGMENTS as f32;
     let lerp_v = |g: f32| {
@@ -486,9 +486,9 @@ pub fn photon_density_warp(rows: &[f32], columns: &[f32], g: Vec2, half_cell: f3
         ua + (ub - ua) * (band - j as f32)
     };
     let v = lerp_v(g.y);
-    let v_span = lerp_v(g.y + half_cell) - lerp_v(g.y - half_cell);
-    let u_span = lerp_u(g.x + half_cell, v) - lerp_u(g.x - half_cell, v);
-    (Vec2::new(lerp_u(g.x, v), v), u_span * v_span / (4.0 * half_cell * half_cell))
+    let v_span = lerp_v(g.y + half_cell.y) - lerp_v(g.y - half_cell.y);
+    let u_span = lerp_u(g.x + half_cell.x, v) - lerp_u(g.x - half_cell.x, v);
+    (Vec2::new(lerp_u(g.x, v), v), u_span * v_span / (4.0 * half_cell.x * half_cell.y))
 }
 
 /// Everything `cast_photon` reads: the frame's uniforms, the noise, and the light's
@@ -556,9 +556,9 @@ impl PhotonCaster<'_> {
         self.light_map.at(texel.0, texel.1)
     }
 
-    /// GLSL `cast_photon`: the photon at light-space `uv` of a grid with `photons_per_axis`²
-    /// photons, or `None` where the shader drops it.
-    pub fn cast(&self, uv: Vec2, photons_per_axis: f32) -> Option<Photon> {
+    /// GLSL `cast_photon`: the photon at light-space `uv` of a grid with `photons_per_axis.x`
+    /// × `.y` photons, or `None` where the shader drops it.
+    pub fn cast(&self, uv: Vec2, photons_per_axis: Vec2) -> Option<Photon> {
         let u = self.uniforms;
         let inv = glam::Mat4::from_cols_array_2d(&u.light_inv_view_proj);
         let (window_min, window_size) = (Vec2::from(u.photon_window_min), Vec2::from(u.photon_window_size));
@@ -660,7 +660,7 @@ impl PhotonCaster<'_> {
         if hit.y > w.level + w.amplitude.abs() + w.noise_amplitude.abs() {
             return None;
         }
-        let n2 = photons_per_axis * photons_per_axis / (window_size.x * window_size.y);
+        let n2 = photons_per_axis.x * photons_per_axis.y / (window_size.x * window_size.y);
         let mut flux = u.light_strength * 4.0 * u.light_half_extent[0] * u.light_half_extent[1] / n2 * cell_scale;
         if point {
             let c = d.dot(Vec3::from_array(u.light_axis)).max(0.0);

@@ -399,7 +399,7 @@ fn compare_photons_with_twin(model: WaterModel, density: underlight::scene::Phot
                     let gpu = records[2 * index];
                     let gpu_landed = gpu[3] > 0.5;
                     let uv = photon_grid_uv(UVec2::new(cx, cy), UVec2::new(i, j), sub, UVec2::splat(grid));
-                    let cpu = caster.cast(uv, per_axis);
+                    let cpu = caster.cast(uv, glam::Vec2::splat(per_axis));
                     landed += gpu_landed as usize;
                     match (gpu_landed, cpu) {
                         (true, Some(p)) => {
@@ -526,6 +526,39 @@ fn photons_spread_for_the_view_light_flat_water_exactly() {
     // A grid coarse enough that the even one would leave the view's pixels between photons.
     scene.effects.caustic_grid = 40;
     assert_flat_floor_lit_exactly(&scene, "view density");
+}
+
+#[test]
+fn a_grid_shaped_for_the_view_lights_flat_water_exactly() {
+    // The survey shapes the caustic triangles' coarse grid as N/k × N·k cells so that their
+    // mesh cells are square on screen (`photon_density::grid_aspect`). Looking straight down
+    // with a wide view (320×128), the photons spread for the view cover a window region
+    // 2.5× wider than tall, and a square grid's cells would be as much longer across the
+    // screen than down it; the survey picks k ≈ √(128/320). Each photon's position and flux
+    // then follow the grid's two spacings, and flat water must still light every pixel with
+    // the analytic irradiance. A grid that covered only part of the window, or drew a row
+    // twice, would miss it by tens of percent.
+    let mut scene = pool_with(0.0, CausticEstimator::Triangles, 320);
+    scene.output = [320, 128];
+    scene.effects.caustic_photon_density = underlight::scene::PhotonSpread::View;
+    scene.effects.caustic_grid = 60;
+    // The survey's k for this view, on the CPU as the frame computes it.
+    let extents = underlight::frame::uniforms::FrameExtents {
+        output: scene.output,
+        caustic: scene.output,
+        godray: [51, 51],
+        light_map: scene.effects.shadow_map_size,
+        max_point_size: 64.0,
+        max_line_width: 1.0,
+    };
+    let uniforms = underlight::frame::uniforms::FrameUniforms::new(&scene, scene.bounds(), &extents, 1.0);
+    let bvh = underlight::bvh::Bvh::of_scene(&scene);
+    let warp = underlight::frame::photon_density::view_adapted(&scene, scene.bounds(), &bvh, &uniforms)
+        .caustics
+        .expect("the pool is in view");
+    eprintln!("grid aspect k = {}", warp.grid_aspect);
+    assert!(!(0.8..=1.25).contains(&warp.grid_aspect), "the view should shape the grid: k = {}", warp.grid_aspect);
+    assert_flat_floor_lit_exactly(&scene, "grid shaped for the view");
 }
 
 #[test]

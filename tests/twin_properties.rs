@@ -195,7 +195,7 @@ proptest! {
         for j in 0..24 {
             for i in 0..24 {
                 let uv = (Vec2::new(i as f32, j as f32) + 0.5) / per_axis;
-                let Some(ph) = caster.cast(uv, per_axis) else { continue };
+                let Some(ph) = caster.cast(uv, glam::Vec2::splat(per_axis)) else { continue };
                 prop_assert!(ph.hit.is_finite() && ph.surface.is_finite() && ph.direction.is_finite());
                 prop_assert!(ph.flux.is_finite() && ph.flux > 0.0 && ph.flux <= share * 1.0001, "flux {} (share {share})", ph.flux);
                 let off = (ph.hit.y + common::FLOOR_DEPTH).abs();

@@ -205,16 +205,16 @@ bool emit_thin_sliver(int a, int b, int c, vec3 per_pixel) {
 }
 
 // A photon's cell on its receiver in target pixels, from the light alone (a directional
-// light): its cell of a grid of photons_per_axis² over the photon window (scaled by the
+// light): its cell of a grid of photons_per_axis.x × .y over the photon window (scaled by the
 // grid's warp there, effects.caustic_photon_density), widened under the
 // water as the refracted beam is (refracted_texel_stretch) and spread over the receiver as
 // the beam meets it, over the receiver area one pixel covers there. For a photon with no
 // drawn triangle around it (a post or an edge that only it reached), where the paper's
 // distance rule drew a 5-20 px square on a post a few pixels wide.
-float cell_pixels(int k, float photons_per_axis) {
+float cell_pixels(int k, vec2 photons_per_axis) {
     float cell = 4.0 * frame.light_half_extent.x * frame.light_half_extent.y
                * frame.photon_window_size.x * frame.photon_window_size.y
-               / (photons_per_axis * photons_per_axis) * cell_scale[k];
+               / (photons_per_axis.x * photons_per_axis.y) * cell_scale[k];
     vec3 beam = light_map_direction(hit[k]);
     float stretch = hit[k].y < frame.water_level ? frame.refracted_texel_stretch : 1.0;
     float on_receiver = cell * stretch / max(abs(dot(normal[k], beam)), 0.1);
@@ -363,9 +363,24 @@ bool split_along_p00_p11(int p00, int p10, int p01, int p11) {
     return dot(d00_11, d00_11) < dot(d10_01, d10_01);
 }
 
+// The coarse grid's columns for this frame: N/k of them, and as many rows of them as N² cells
+// fill (frame.caustic_grid_aspect = k, 1 for the paper's square grid). The survey picks k so
+// that the mesh cells are square on screen on average (frame::photon_density): the view
+// foreshortens the receivers, and a square grid's cells were 2.2× longer one way than the
+// other on the storage. The draw still issues N² invocations, numbered row by row over N
+// columns; each takes its cell from its number over the new columns.
+uint grid_columns() {
+    return clamp(uint(round(float(pc.grid) / frame.caustic_grid_aspect)), 1u, pc.grid * pc.grid);
+}
+
 void main() {
     int side = int(SUBDIVISION) + 1;
-    float photons_per_axis = float(pc.grid * SUBDIVISION);
+    uint columns = grid_columns();
+    uvec2 cells = uvec2(columns, (pc.grid * pc.grid) / columns);
+    uint number = v_cell[0].y * pc.grid + v_cell[0].x;
+    uvec2 cell = uvec2(number % columns, number / columns);
+    if (cell.y >= cells.y) return; // the last row's leftover invocations
+    vec2 photons_per_axis = vec2(cells * SUBDIVISION);
     for (int j = 0; j < side; ++j) {
         for (int i = 0; i < side; ++i) {
             int k = j * side + i;
@@ -373,7 +388,7 @@ void main() {
             // from the photon's global index, so both invocations that cast a border photon
             // compute the same bits and their meshes meet without cracks (photon_grid_uv's
             // cell + sub/SUBDIVISION rounds differently on the two sides).
-            vec2 uv = (vec2(v_cell[0] * SUBDIVISION + uvec2(i, j)) + 0.5) / photons_per_axis;
+            vec2 uv = (vec2(cell * SUBDIVISION + uvec2(i, j)) + 0.5) / photons_per_axis;
             Photon ph;
             landed[k] = cast_photon(uv, photons_per_axis, ph);
             hit[k] = ph.hit;

@@ -55,16 +55,16 @@ float density_knot_lerp_u(float g, float v) {
     return mix(ua, ub, band - float(j));
 }
 
-// `half_cell`: half the grid's spacing. `cell_scale`: the area of the photon's warped cell (its
-// grid cell's corners through the warp, the v of its centre for the u) over the even grid's:
-// the flux it carries scales with it. Measured over the cell rather than as the warp's
-// derivative at its centre, so that a cell across a knot, where the slope changes, carries
-// the light the mesh's triangles there cover.
-vec2 photon_density_warp(vec2 g, float half_cell, out float cell_scale) {
+// `half_cell`: half the grid's spacing along u and along v. `cell_scale`: the area of the
+// photon's warped cell (its grid cell's corners through the warp, the v of its centre for the
+// u) over the even grid's: the flux it carries scales with it. Measured over the cell rather
+// than as the warp's derivative at its centre, so that a cell across a knot, where the slope
+// changes, carries the light the mesh's triangles there cover.
+vec2 photon_density_warp(vec2 g, vec2 half_cell, out float cell_scale) {
     float v = density_knot_lerp_v(g.y);
-    float v_span = density_knot_lerp_v(g.y + half_cell) - density_knot_lerp_v(g.y - half_cell);
-    float u_span = density_knot_lerp_u(g.x + half_cell, v) - density_knot_lerp_u(g.x - half_cell, v);
-    cell_scale = u_span * v_span / (4.0 * half_cell * half_cell);
+    float v_span = density_knot_lerp_v(g.y + half_cell.y) - density_knot_lerp_v(g.y - half_cell.y);
+    float u_span = density_knot_lerp_u(g.x + half_cell.x, v) - density_knot_lerp_u(g.x - half_cell.x, v);
+    cell_scale = u_span * v_span / (4.0 * half_cell.x * half_cell.y);
     return vec2(density_knot_lerp_u(g.x, v), v);
 }
 
@@ -139,11 +139,12 @@ const int PHOTON_ABOVE_WATER = 8;
 const int PHOTON_NOT_FINITE = 9;
 int photon_fate = PHOTON_LANDED; // set by every cast_photon
 
-// Casts the photon at light-space position uv ∈ [0,1]² of a grid with `photons_per_axis`²
-// photons. Returns false for photons that never enter the water, are blocked before it,
-// leave the light's map, hit nothing, or whose iteration does not converge: those are
-// dropped, never splatted.
-bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
+// Casts the photon at light-space position uv ∈ [0,1]² of a grid with photons_per_axis.x ×
+// photons_per_axis.y photons (square but for the caustic triangles' grid, whose aspect
+// follows the view: caustics_triangles.geom). Returns false for photons that never enter the
+// water, are blocked before it, leave the light's map, hit nothing, or whose iteration does
+// not converge: those are dropped, never splatted.
+bool cast_photon(vec2 uv, vec2 photons_per_axis, out Photon ph) {
     ph.surface = vec3(0.0); ph.direction = vec3(0.0); ph.hit = vec3(0.0); ph.flux = 0.0; ph.travelled = 0.0;
     ph.cell_scale = 1.0;
     photon_fate = PHOTON_LANDED;
@@ -164,7 +165,7 @@ bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
     // / N². Point: I × the photon's solid angle (tangent-plane cell area × cos³ of its angle
     // to the light's axis). The window is photon_window_size of the map's, so N² photons
     // share that fraction of it.
-    float n2 = photons_per_axis * photons_per_axis / (frame.photon_window_size.x * frame.photon_window_size.y);
+    float n2 = photons_per_axis.x * photons_per_axis.y / (frame.photon_window_size.x * frame.photon_window_size.y);
     float flux;
     if (frame.light_is_point == 0.0) {
         flux = frame.light_strength * 4.0 * frame.light_half_extent.x * frame.light_half_extent.y / n2;
@@ -276,5 +277,10 @@ bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
     bool finite = !(any(isnan(hit)) || any(isinf(hit)) || isnan(ph.flux) || isinf(ph.flux));
     if (photon_fate == PHOTON_LANDED && !finite) photon_fate = PHOTON_NOT_FINITE;
     return finite;
+}
+
+// The photon of a square grid of `photons_per_axis`² photons.
+bool cast_photon(vec2 uv, float photons_per_axis, out Photon ph) {
+    return cast_photon(uv, vec2(photons_per_axis), ph);
 }
 #endif

@@ -71,7 +71,7 @@ layout(set = 0, binding = BINDING_UNIFORMS, std430) readonly buffer FrameUniform
     float refracted_texel_stretch; // max(1, |r_y| / |d_y|): a map texel's beam under the water against above
     vec2 photon_jitter;            // this frame's photon-grid offset, in photon cells (effects.photon_jitter)
     float godray_density_warped;   // 1: the godray beams follow godray_density_* (effects.godray_photon_density = "view")
-    float unused_tail;
+    float caustic_grid_aspect;     // k: the caustic triangles' coarse grid is N/k columns × N·k rows (frame::photon_density)
     // The caustic photon grid's warp (frame::photon_density, photon_cast.glsl's
     // photon_density_warp): inverse cumulative densities, PHOTON_DENSITY_KNOTS knots each. Rows:
     // the window's v at grid v = k / (knots − 1). Columns: one row of knots per band of the

@@ -383,7 +383,7 @@ impl FrameUniforms {
             refracted_texel_stretch: refracted_texel_stretch(light.axis, refracted),
             photon_jitter: if e.photon_jitter { photon_jitter(time) } else { [0.0; 2] },
             godray_density_warped: 0.0,
-            unused_tail: 0.0,
+            caustic_grid_aspect: 1.0,
             photon_density_rows: super::photon_density::PhotonDensity::EVEN.rows,
             photon_density_columns: super::photon_density::PhotonDensity::EVEN.columns_flat(),
             godray_density_rows: super::photon_density::PhotonDensity::EVEN.rows,
