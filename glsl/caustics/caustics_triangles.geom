@@ -365,9 +365,9 @@ bool split_along_p00_p11(int p00, int p10, int p01, int p11) {
 
 // The coarse grid's columns for this frame: N/k of them, and as many rows of them as N² cells
 // fill (frame.caustic_grid_aspect = k, 1 for the paper's square grid). The survey picks k so
-// that the mesh cells are square on screen on average (frame::photon_density): the view
-// foreshortens the receivers, and a square grid's cells were 2.2× longer one way than the
-// other on the storage. The draw still issues N² invocations, numbered row by row over N
+// that the mesh cells are square on screen on average (frame::photon_density): on the
+// storage, whose corridor is narrow across the photon window and long along it, a square
+// grid's cells were 2.2× longer one way than the other. The draw still issues N² invocations, numbered row by row over N
 // columns; each takes its cell from its number over the new columns.
 uint grid_columns() {
     return clamp(uint(round(float(pc.grid) / frame.caustic_grid_aspect)), 1u, pc.grid * pc.grid);

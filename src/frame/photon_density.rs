@@ -265,10 +265,12 @@ const OUTLIER_LOG_RATIO: f64 = 2.772_588_722_239_781; // ln 16
 /// caustic_grid_aspect`): the one that makes their mesh cells square on screen on average.
 ///
 /// Why: the grid is N × N over the photon window and the warp spreads each axis by itself, so
-/// nothing made a cell square where the camera sees it. Seen foreshortened, the storage's
-/// corridor had cells 2.2× longer along v than along u on average (docs/accuracy.md, "The
-/// photon grid's aspect on screen"); N/k × N·k with k = √2.2 lowered its caustic error by 9 %
-/// for the same photons.
+/// nothing made a cell square where the camera sees it. With photons in proportion to the
+/// pixels, each axis's spacing on screen is about the screen's size along it over N, scaled by
+/// the shape of the region the view takes its photons from: the storage's corridor, narrow
+/// across the window and long along it, had cells 2.2× longer along v than along u on average
+/// (docs/accuracy.md, "The photon grid's aspect on screen"); N/k × N·k with k = √2.2 lowered
+/// its caustic error by 9 % for the same photons.
 ///
 /// How: for each survey ray whose two neighbours (across and down the screen) also reached a
 /// receiver, the three entry points give the screen's step per window step (the inverse of
@@ -279,7 +281,7 @@ const OUTLIER_LOG_RATIO: f64 = 2.772_588_722_239_781; // ln 16
 /// (neighbours on two receivers, a post before the floor, give steps of no meaning). The
 /// geometric mean, because that is what the cells' measured edges gave: the recorded photons'
 /// mean cell reads k = 1.11, 0.83 and 1.48 on the tank, the port and the storage, this
-/// estimate 1.07, 0.86 and 1.50; the median of the ratios read 0.95, 0.78 and 1.51.
+/// estimate 1.07, 0.86 and 1.47; the median of the ratios read 0.95, 0.78 and 1.51.
 fn grid_aspect(
     density: &[[f64; SEGMENTS]; SEGMENTS],
     receiver_uv: &[Option<Vec2>; RAYS[0] * RAYS[1]],
