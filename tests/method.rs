@@ -555,6 +555,53 @@ fn a_grid_shaped_for_the_view_lights_flat_water_exactly() {
 }
 
 #[test]
+fn the_survey_spends_no_photons_on_receivers_the_camera_sees_in_shadow() {
+    // A roof over half the pool shades the floor under it, and the camera under the water
+    // sees both halves. A pixel on the shaded half sees no caustic: photons cast towards it
+    // are blocked by the roof before the water. The survey counts only the receivers the
+    // light reaches through flat water, so the photons go to the lit half, and the roof gets
+    // only the density's floor and its blur: 12.4 % of the photons enter the water under it.
+    // Counting every receiver the camera sees put 50.7 % there (the lit test taken out of
+    // `photon_density::view_adapted`).
+    let mut scene = pool_with(0.0, CausticEstimator::Triangles, 320);
+    scene.effects.caustic_photon_density = underlight::scene::PhotonSpread::View;
+    scene.meshes.push(common::block("roof", glam::Vec3::new(-6.0, 0.3, -6.0), glam::Vec3::new(0.0, 0.35, 6.0)));
+    let extents = underlight::frame::target_extents(&scene, scene.output, 64.0, 1.0);
+    let uniforms = underlight::frame::uniforms::FrameUniforms::new(&scene, scene.bounds(), &extents, 1.0);
+    let bvh = underlight::bvh::Bvh::of_scene(&scene);
+    let warp = underlight::frame::photon_density::view_adapted(&scene, scene.bounds(), &bvh, &uniforms)
+        .caustics
+        .expect("the pool is in view");
+    // Where each photon of a 200² grid enters the (flat) water, through the warp and the
+    // light's window, and how many enter under the roof.
+    let inverse = glam::Mat4::from_cols_array_2d(&uniforms.light_inv_view_proj);
+    let (window_min, window_size) =
+        (glam::Vec2::from(uniforms.photon_window_min), glam::Vec2::from(uniforms.photon_window_size));
+    let columns = warp.columns_flat();
+    let n = 200;
+    let mut under_roof = 0;
+    for j in 0..n {
+        for i in 0..n {
+            let g = glam::Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
+            let (uv, _) = underlight::shader_math::photon_density_warp(
+                &warp.rows,
+                &columns,
+                g,
+                glam::Vec2::splat(0.5 / n as f32),
+            );
+            let ndc = (window_min + uv * window_size) * 2.0 - 1.0;
+            let near = inverse.project_point3(glam::Vec3::new(ndc.x, ndc.y, 0.0));
+            let far = inverse.project_point3(glam::Vec3::new(ndc.x, ndc.y, 1.0));
+            let t = (scene.water.level - near.y) / (far.y - near.y);
+            under_roof += (near.x + t * (far.x - near.x) < 0.0) as usize;
+        }
+    }
+    let share = under_roof as f64 / (n * n) as f64;
+    eprintln!("photons entering the water under the roof: {:.1} %", 100.0 * share);
+    assert!(share < 0.2, "{:.1} % of the photons enter the water under the roof", 100.0 * share);
+}
+
+#[test]
 fn triangle_estimator_lights_flat_water_exactly_and_without_gaps() {
     // Under flat water the refracted mesh is the light grid translated: its triangles tile
     // the floor, each carrying its flux over its area, so every pixel holds the analytic
