@@ -350,7 +350,7 @@ pub const GODRAY_SAME_SURFACE: f32 = 0.25;
 type PhotonDensityKey = ([[f32; 4]; 4], [[f32; 4]; 4], [f32; 2], [f32; 2]);
 
 /// While the camera moves, the photon density is surveyed again at most every this many
-/// frames. The survey costs 13–15 ms of CPU (docs/accuracy.md). A warp a few frames old only
+/// frames. The survey costs 12–15 ms of CPU (docs/performance.md). A warp a few frames old only
 /// spreads the photons for where the camera just was: each photon still carries its warped
 /// cell's flux, so the light stays right, and only the photons' spacing lags.
 pub const PHOTON_SURVEY_INTERVAL: u32 = 8;
