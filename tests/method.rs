@@ -377,7 +377,7 @@ fn compare_photons_with_twin(model: WaterModel, density: underlight::scene::Phot
     let mut uniforms = FrameUniforms::new(&scene, scene.bounds(), &extents, time);
     if density == underlight::scene::PhotonSpread::View {
         let bvh = underlight::bvh::Bvh::of_scene(&scene);
-        let warp = underlight::frame::photon_density::view_adapted(&scene, scene.bounds(), &bvh, &uniforms)
+        let warp = underlight::frame::photon_density::view_adapted(&scene, scene.bounds(), &bvh, &uniforms, None)
             .caustics
             .expect("the pool is in view");
         assert!(warp.peak_density() > 2.0, "the pool's view should concentrate the photons: {}", warp.peak_density());
@@ -534,7 +534,8 @@ fn a_grid_shaped_for_the_view_lights_flat_water_exactly() {
     // mesh cells are square on screen (`photon_density::grid_aspect`). Looking straight down
     // with a wide view (320×128), the photons spread for the view cover a window region
     // 2.5× wider than tall, and a square grid's cells would be as much longer across the
-    // screen than down it; the survey picks k ≈ √(128/320). Each photon's position and flux
+    // screen than down it; the survey estimates k ≈ √(128/320) = 0.63 and picks the level
+    // nearest it, 1 / 1.49 (`grid_aspect_level`). Each photon's position and flux
     // then follow the grid's two spacings, and flat water must still light every pixel with
     // the analytic irradiance. Photons placed by the square grid's spacings instead read 19 %
     // low, with a 48 % per-pixel spread (a build so mutated, lavapipe).
@@ -546,7 +547,7 @@ fn a_grid_shaped_for_the_view_lights_flat_water_exactly() {
     let extents = underlight::frame::target_extents(&scene, scene.output, 64.0, 1.0);
     let uniforms = underlight::frame::uniforms::FrameUniforms::new(&scene, scene.bounds(), &extents, 1.0);
     let bvh = underlight::bvh::Bvh::of_scene(&scene);
-    let warp = underlight::frame::photon_density::view_adapted(&scene, scene.bounds(), &bvh, &uniforms)
+    let warp = underlight::frame::photon_density::view_adapted(&scene, scene.bounds(), &bvh, &uniforms, None)
         .caustics
         .expect("the pool is in view");
     eprintln!("grid aspect k = {}", warp.grid_aspect);
@@ -569,7 +570,7 @@ fn the_survey_spends_no_photons_on_receivers_the_camera_sees_in_shadow() {
     let extents = underlight::frame::target_extents(&scene, scene.output, 64.0, 1.0);
     let uniforms = underlight::frame::uniforms::FrameUniforms::new(&scene, scene.bounds(), &extents, 1.0);
     let bvh = underlight::bvh::Bvh::of_scene(&scene);
-    let warp = underlight::frame::photon_density::view_adapted(&scene, scene.bounds(), &bvh, &uniforms)
+    let warp = underlight::frame::photon_density::view_adapted(&scene, scene.bounds(), &bvh, &uniforms, None)
         .caustics
         .expect("the pool is in view");
     // Where each photon of a 200² grid enters the (flat) water, through the warp and the

@@ -667,7 +667,9 @@ impl Frame {
                 Some((k, _)) => *k != key && self.frames_since_survey >= PHOTON_SURVEY_INTERVAL,
             };
             if stale {
-                self.photon_density = Some((key, photon_density::view_adapted(&self.scene, self.bounds, bvh, &u)));
+                let previous = self.photon_density.as_ref().map(|(_, densities)| densities);
+                let densities = photon_density::view_adapted(&self.scene, self.bounds, bvh, &u, previous);
+                self.photon_density = Some((key, densities));
                 self.frames_since_survey = 0;
                 self.photon_surveys += 1;
             }

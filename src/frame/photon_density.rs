@@ -173,8 +173,15 @@ const BEAM_STEPS: usize = 24;
 
 /// The warps for the frame `u` (its camera, light and photon window), from one survey of the
 /// scene (`bounds`: `Scene::bounds`). Each is `None` where the view holds too little lit water
-/// to survey; the even grid then.
-pub fn view_adapted(scene: &Scene, bounds: (Vec3, Vec3), bvh: &Bvh, u: &FrameUniforms) -> ViewDensities {
+/// to survey; the even grid then. `previous`: the last survey's, whose caustic grid aspect the
+/// new one keeps unless the view has moved well away from it (`grid_aspect_level`).
+pub fn view_adapted(
+    scene: &Scene,
+    bounds: (Vec3, Vec3),
+    bvh: &Bvh,
+    u: &FrameUniforms,
+    previous: Option<&ViewDensities>,
+) -> ViewDensities {
     let none = ViewDensities { caustics: None, godrays: None };
     let inv = Mat4::from_cols_array_2d(&u.camera_inv_view_proj);
     let light = Mat4::from_cols_array_2d(&u.light_view_proj);
@@ -242,7 +249,8 @@ pub fn view_adapted(scene: &Scene, bounds: (Vec3, Vec3), bvh: &Bvh, u: &FrameUni
     ViewDensities {
         caustics: (landed >= MIN_RAYS).then(|| {
             let density = survey_density(receivers);
-            let grid_aspect = grid_aspect(&density, &receiver_uv, ray_step);
+            let previous_aspect = previous.and_then(|p| p.caustics).map(|c| c.grid_aspect);
+            let grid_aspect = grid_aspect_level(grid_aspect(&density, &receiver_uv, ray_step), previous_aspect);
             PhotonDensity { grid_aspect, ..PhotonDensity::from_histogram(&density) }
         }),
         godrays: (crossed >= MIN_RAYS).then(|| PhotonDensity::from_histogram(&survey_density(crossings))),
@@ -290,11 +298,17 @@ fn histogram_cell(uv: Vec2) -> (usize, usize) {
 
 /// The largest k either way (`grid_aspect`): N/2 × 2N coarse cells.
 const GRID_ASPECT_MAX: f32 = 2.0;
-/// The least k either way that leaves the square grid (`grid_aspect`). Any other grid moves
-/// every photon, and a near-square one gains nothing measurable: the tank (k = 1.07) and the
-/// port (0.86) read −0.3 % and +1.5 % on average over t = 1, 2 and 3 s with their k, the
-/// storage (1.47) −9 % and −6 % at t = 1 and 2 s.
+/// The least k either way that leaves the square grid (`grid_aspect_level`). Any other grid
+/// moves every photon, and a near-square estimate is noise: the tank's reads 1.07 or 0.92
+/// depending on which receivers the survey counts, and a grid of 2^(±1/4) read worse than the
+/// square there (docs/accuracy.md, "The photon grid's aspect on screen").
 const GRID_ASPECT_MIN: f32 = 1.25;
+/// The grid aspects the survey chooses among beyond `GRID_ASPECT_MIN` (`grid_aspect_level`):
+/// a quarter octave apart, up to `GRID_ASPECT_MAX` either way.
+const GRID_ASPECT_LEVELS_PER_OCTAVE: f32 = 4.0;
+/// How far past the midpoint between two levels the estimate must move, in levels, before
+/// the grid leaves the level the previous survey chose (`grid_aspect_level`).
+const GRID_ASPECT_HYSTERESIS: f32 = 0.25;
 /// A survey ray's L_v / L_u counts as at most 16 either way (`grid_aspect`): neighbours on two
 /// receivers give steps of no meaning, and unbounded they would rule the mean.
 const OUTLIER_LOG_RATIO: f64 = 2.772_588_722_239_781; // ln 16
@@ -359,12 +373,40 @@ fn grid_aspect(
         return 1.0;
     }
     let mean = log_ratio_sum / rays as f64;
-    let k = ((0.5 * mean).exp() as f32).clamp(1.0 / GRID_ASPECT_MAX, GRID_ASPECT_MAX);
-    if (1.0 / GRID_ASPECT_MIN..=GRID_ASPECT_MIN).contains(&k) {
-        1.0
-    } else {
-        k
-    }
+    ((0.5 * mean).exp() as f32).clamp(1.0 / GRID_ASPECT_MAX, GRID_ASPECT_MAX)
+}
+
+/// The grid aspect the frame uses for the estimate `k` (`grid_aspect`): the square grid for k
+/// within `GRID_ASPECT_MIN` either way; beyond it, `GRID_ASPECT_MIN` times the nearest whole
+/// number of quarter octaves (1.25, 1.49, 1.77, then `GRID_ASPECT_MAX`, and their inverses);
+/// and the `previous` survey's level while one within `GRID_ASPECT_HYSTERESIS` of a level of
+/// `k` would still choose it.
+///
+/// Why levels: the grid has round(N / k) columns, and each change of k that changes them
+/// moves every photon by up to a cell, so while the viewer's camera moves, a k that followed
+/// the estimate re-sampled the whole caustic at every survey (every `PHOTON_SURVEY_INTERVAL`
+/// frames). Why the hysteresis: an estimate on a boundary (the port's 0.795 lies 0.03 of a
+/// level past 1 / 1.25) would flip between two grids as the camera moves.
+fn grid_aspect_level(k: f32, previous: Option<f32>) -> f32 {
+    // In quarter octaves (x = 4·log2 k).
+    let steps = GRID_ASPECT_LEVELS_PER_OCTAVE;
+    let top = GRID_ASPECT_MAX.log2() * steps;
+    let square = GRID_ASPECT_MIN.log2() * steps;
+    let level_of = |k: f32| (k.log2() * steps).clamp(-top, top);
+    let nearest = |x: f32| {
+        if x.abs() < square {
+            0.0
+        } else {
+            (x.signum() * (square + (x.abs() - square).round())).clamp(-top, top)
+        }
+    };
+    let x = level_of(k);
+    let h = GRID_ASPECT_HYSTERESIS;
+    let level = match previous.filter(|p| p.is_finite() && *p > 0.0).map(level_of) {
+        Some(p) if [x - h, x, x + h].iter().any(|&y| (nearest(y) - p).abs() < 1e-3) => p,
+        _ => nearest(x),
+    };
+    (level / steps).exp2()
 }
 
 /// The density from a survey's histogram: BLUR passes of a 3×3 box over the cells (clamped at
@@ -509,7 +551,7 @@ mod tests {
         // Survey rays 4 px apart whose receivers take their photons from a region of the window
         // `wide` across (u) and `tall` down (v), under an even density: the grid's spacing is
         // the same along u and v, so on screen a cell's v edge is wide/tall times its u edge,
-        // and k = √(wide/tall) makes it square. Near the square the grid stays square.
+        // and k = √(wide/tall) makes it square.
         let even = [[1.0f64; SEGMENTS]; SEGMENTS];
         let aspect = |wide: f32, tall: f32| {
             let mut uv = [None; RAYS[0] * RAYS[1]];
@@ -526,10 +568,42 @@ mod tests {
         assert!((k - 3.125f32.sqrt()).abs() < 1e-3, "k {k}");
         let k = aspect(0.1 * 80.0 / 50.0 / 3.125, 0.1);
         assert!((k - 1.0 / 3.125f32.sqrt()).abs() < 1e-3, "k {k}");
-        // L_v / L_u = 1.5: k = 1.22, within the dead zone.
-        assert_eq!(aspect(0.1 * 80.0 / 50.0 * 1.5, 0.1), 1.0);
         // Past GRID_ASPECT_MAX: held there.
         assert_eq!(aspect(0.8, 0.01), GRID_ASPECT_MAX);
+    }
+
+    #[test]
+    fn the_grid_aspect_keeps_to_quarter_octaves_and_to_the_previous_level() {
+        let level = |k: f32, previous: Option<f32>| grid_aspect_level(k, previous);
+        let quarter = |n: f32| GRID_ASPECT_MIN * (n / 4.0).exp2();
+        let close = |a: f32, b: f32| (a - b).abs() < 1e-5;
+        // Within 1.25 either way, the square; beyond, 1.25 times whole quarter octaves.
+        assert_eq!(level(1.2, None), 1.0);
+        assert_eq!(level(0.85, None), 1.0);
+        assert!(close(level(1.26, None), 1.25));
+        assert!(close(level(0.795, None), 0.8), "the port's estimate");
+        assert!(close(level(1.38, None), quarter(1.0)), "the storage's estimate");
+        assert!(close(level(1.8, None), quarter(2.0)));
+        assert_eq!(level(1.95, None), GRID_ASPECT_MAX);
+        assert_eq!(level(0.2, None), 1.0 / GRID_ASPECT_MAX);
+        // Across a boundary, the previous level holds until a quarter level past it.
+        let past = |k: f32, quarters: f32| k * (quarters / 4.0).exp2();
+        assert_eq!(level(past(1.25, 0.2), Some(1.0)), 1.0);
+        assert!(close(level(past(1.25, 0.3), Some(1.0)), 1.25));
+        assert!(close(level(past(1.25, -0.2), Some(1.25)), 1.25));
+        assert_eq!(level(past(1.25, -0.3), Some(1.25)), 1.0);
+        assert!(close(level(past(quarter(0.5), 0.2), Some(1.25)), 1.25));
+        assert!(close(level(past(quarter(0.5), 0.2), None), quarter(1.0)));
+        assert!(close(level(past(quarter(0.5), 0.3), Some(1.25)), quarter(1.0)));
+        // Far from the previous level, the nearest.
+        assert!(close(level(quarter(2.0), Some(1.0)), quarter(2.0)));
+        assert!(close(level(1.0, Some(quarter(1.0))), 1.0));
+        // Every level is the square, GRID_ASPECT_MAX, or 1.25 times whole quarter octaves.
+        for k in [0.5f32, 0.6, 0.77, 0.9, 1.0, 1.1, 1.3, 1.5, 1.9, 2.0] {
+            let l = level(k, None);
+            let n = (l.max(1.0 / l) / GRID_ASPECT_MIN).log2() * 4.0;
+            assert!(l == 1.0 || close(l.max(1.0 / l), GRID_ASPECT_MAX) || (n - n.round()).abs() < 1e-4, "k {k}: {l}");
+        }
     }
 
     #[test]
