@@ -125,10 +125,15 @@ pub struct FluxBudget {
 }
 
 impl FluxBudget {
-    /// From the records `CausticsPass::read_photon_records` returns: two per photon.
+    /// From the records `CausticsPass::read_photon_records` returns: two per photon, both
+    /// zero where the grid has no photon (an invocation past the last row of the triangles'
+    /// grid shaped for the view: `caustic_grid_cell` in glsl/caustics/caustic_splat.glsl).
     pub fn from_records(records: &[[f32; 4]]) -> Self {
         let mut budget = FluxBudget::default();
         for pair in records.chunks_exact(2) {
+            if pair[0] == [0.0; 4] && pair[1] == [0.0; 4] {
+                continue;
+            }
             let (code, flux) = (pair[0][3], pair[1][3] as f64);
             budget.cast += 1;
             if code > 1.5 {
@@ -328,8 +333,17 @@ mod tests {
     #[test]
     fn records_are_counted_by_reason() {
         let photon = |code: f32, flux: f32| [[0.0, 0.0, 0.0, code], [0.0, 0.0, 0.0, flux]];
-        let records: Vec<[f32; 4]> =
-            [photon(1.0, 0.5), photon(-7.0, 1.0), photon(-7.0, 1.0), photon(-2.0, 0.25), photon(-12.0, 1.0)].concat();
+        // The all-zero pair is no photon: an invocation past the last row of a grid shaped for
+        // the view.
+        let records: Vec<[f32; 4]> = [
+            photon(1.0, 0.5),
+            photon(-7.0, 1.0),
+            photon(0.0, 0.0),
+            photon(-7.0, 1.0),
+            photon(-2.0, 0.25),
+            photon(-12.0, 1.0),
+        ]
+        .concat();
         let b = FluxBudget::from_records(&records);
         assert_eq!(b.cast, 5);
         assert_eq!(b.landed, Share { photons: 1, watts: 0.5 });

@@ -10,6 +10,20 @@ struct CausticSplat {
     vec4 irradiance;  // rgb: irradiance / E_surface per covered pixel; a = 1 per photon
 };
 
+// The caustic photon grid's coarse cells for this frame: N/k columns, and as many rows of them
+// as N² cells fill (frame.caustic_grid_aspect = k, 1 but for the triangle estimator's grid,
+// which the survey shapes so that its mesh cells are square on screen: frame::photon_density).
+// The draw still issues N² invocations, numbered row by row over N columns; `invocation`'s
+// number over the new columns gives its `cell` of `cells`. False for the last row's leftover
+// invocations, which have no cell.
+bool caustic_grid_cell(uvec2 invocation, uint grid, out uvec2 cell, out uvec2 cells) {
+    uint columns = clamp(uint(round(float(grid) / frame.caustic_grid_aspect)), 1u, grid * grid);
+    cells = uvec2(columns, (grid * grid) / columns);
+    uint number = invocation.y * grid + invocation.x;
+    cell = uvec2(number % columns, number / columns);
+    return cell.y < cells.y;
+}
+
 // Whether the camera sees the side of the receiver (normal n, either orientation) that light
 // travelling along `light_dir` falls on. A photon on the top of a rail seen from below, or on
 // the far face of a thin panel, lights nothing the camera sees; the depth test cannot tell

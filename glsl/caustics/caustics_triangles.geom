@@ -363,23 +363,13 @@ bool split_along_p00_p11(int p00, int p10, int p01, int p11) {
     return dot(d00_11, d00_11) < dot(d10_01, d10_01);
 }
 
-// The coarse grid's columns for this frame: N/k of them, and as many rows of them as N² cells
-// fill (frame.caustic_grid_aspect = k, 1 for the paper's square grid). The survey picks k so
-// that the mesh cells are square on screen on average (frame::photon_density): on the
-// storage, whose corridor is narrow across the photon window and long along it, a square
-// grid's cells were 2.2× longer one way than the other. The draw still issues N² invocations, numbered row by row over N
-// columns; each takes its cell from its number over the new columns.
-uint grid_columns() {
-    return clamp(uint(round(float(pc.grid) / frame.caustic_grid_aspect)), 1u, pc.grid * pc.grid);
-}
-
 void main() {
     int side = int(SUBDIVISION) + 1;
-    uint columns = grid_columns();
-    uvec2 cells = uvec2(columns, (pc.grid * pc.grid) / columns);
-    uint number = v_cell[0].y * pc.grid + v_cell[0].x;
-    uvec2 cell = uvec2(number % columns, number / columns);
-    if (cell.y >= cells.y) return; // the last row's leftover invocations
+    // The coarse grid is N/k × N·k cells (caustic_grid_cell): on the storage, whose corridor
+    // is narrow across the photon window and long along it, a square grid's mesh cells were
+    // 2.2× longer one way than the other on screen.
+    uvec2 cell, cells;
+    if (!caustic_grid_cell(v_cell[0], pc.grid, cell, cells)) return;
     vec2 photons_per_axis = vec2(cells * SUBDIVISION);
     for (int j = 0; j < side; ++j) {
         for (int i = 0; i < side; ++i) {

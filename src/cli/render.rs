@@ -200,24 +200,22 @@ pub(super) fn run(cli: &Cli, args: &SceneArgs) -> Result<i32> {
 }
 
 /// `render --flux-budget`: one frame through the photon-recording geometry shaders: the
-/// caustic photons (through the paper's points: recording is theirs, and the photons are the
-/// same for every estimator) and the godray beams.
+/// caustic photons (through the paper's points' recording variant, on the grid of the scene's
+/// estimator) and the godray beams.
 fn print_flux_budget(ctx: &Context, scene: &underlight::scene::Scene, extent: vk::Extent2D, time: f32) -> Result<()> {
     use underlight::flux_budget::{grid_power, FluxBudget};
-    let mut recorded = scene.clone();
-    recorded.effects.caustic_estimator = underlight::scene::CausticEstimator::Paper;
-    let e = &recorded.effects;
+    let e = &scene.effects;
     let beams = e.godrays && e.godray_method.casts_beams();
     if !(e.caustics || beams) || !ctx.device.has_pipeline_stores() {
         bail!("--flux-budget needs caustics or godray beams, and a device with vertexPipelineStoresAndAtomics");
     }
     let options = underlight::frame::FrameOptions { record_photons: true, ..Default::default() };
-    let mut renderer = headless::SceneRenderer::with_options(&ctx.device, &recorded, extent, options)?;
+    let mut renderer = headless::SceneRenderer::with_options(&ctx.device, scene, extent, options)?;
     let extents = renderer.frame.extents;
     let (_, images) = renderer.render(1, time, 0.0, true)?;
     drop(renderer);
     let images = images.expect("read back requested");
-    let u = underlight::frame::uniforms::FrameUniforms::new(&recorded, recorded.bounds(), &extents, time);
+    let u = underlight::frame::uniforms::FrameUniforms::new(scene, scene.bounds(), &extents, time);
     println!("\nflux budget at t = {time} s:");
     let mut printed = false;
     if let Some(records) = &images.photon_records {
@@ -225,7 +223,7 @@ fn print_flux_budget(ctx: &Context, scene: &underlight::scene::Scene, extent: vk
         budget.light_power = grid_power(&u);
         let view_proj = glam::Mat4::from_cols_array_2d(&u.camera_view_proj);
         let camera = glam::Vec3::from(u.camera_position);
-        budget.seen_by(records, view_proj, camera, &underlight::bvh::Bvh::of_scene(&recorded));
+        budget.seen_by(records, view_proj, camera, &underlight::bvh::Bvh::of_scene(scene));
         println!("{budget}");
         printed = true;
     }

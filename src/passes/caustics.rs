@@ -73,14 +73,10 @@ impl CausticsPass {
         path: PhotonPath,
     ) -> Result<Self> {
         let triangles = estimator == CausticEstimator::Triangles;
-        if triangles && (path != PhotonPath::GeometryShader || record_photons) {
+        if triangles && path != PhotonPath::GeometryShader {
             return Err(Error::InvalidParameter {
                 name: "caustic_estimator",
-                message: format!(
-                    "\"triangles\" needs the geometry-shader photon path without photon recording (asked: {}{})",
-                    path.name(),
-                    if record_photons { ", recording photons" } else { "" }
-                ),
+                message: format!("\"triangles\" needs the geometry-shader photon path (asked: {})", path.name()),
             });
         }
         let max = estimator.max_subdivision();
@@ -145,7 +141,10 @@ impl CausticsPass {
             ..GraphicsPipelineDesc::new("caustics", vertex, "caustics.frag", target.render_pass.raw)
         };
         let (pipeline, accumulation, splat_floor) = match path {
-            PhotonPath::GeometryShader if triangles => {
+            // Recording, the triangles' photons go through the points' recording variant,
+            // which numbers them over the triangles' grid (caustics.geom, PHOTON_DEBUG): the
+            // flux budget counts the photons the triangles cast.
+            PhotonPath::GeometryShader if triangles && !record_photons => {
                 let desc = GraphicsPipelineDesc {
                     name: "caustics triangles",
                     fragment: "caustics_triangles.frag",
