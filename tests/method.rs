@@ -556,6 +556,20 @@ fn photons_spread_for_the_view_light_flat_water_exactly() {
     assert_flat_floor_lit_exactly(&scene, "view density");
 }
 
+/// The caustic photons' warp that a frame's first survey of `scene` computes (on the CPU, at
+/// t = 1 s), and the frame's uniforms it is computed for.
+fn surveyed_caustic_warp(
+    scene: &Scene,
+) -> (underlight::frame::uniforms::FrameUniforms, underlight::frame::photon_density::PhotonDensity) {
+    let extents = underlight::frame::target_extents(scene, scene.output, 64.0, 1.0);
+    let uniforms = underlight::frame::uniforms::FrameUniforms::new(scene, scene.bounds(), &extents, 1.0);
+    let bvh = underlight::bvh::Bvh::of_scene(scene);
+    let warp = underlight::frame::photon_density::view_adapted(scene, scene.bounds(), &bvh, &uniforms, None)
+        .caustics
+        .expect("the pool is in view");
+    (uniforms, warp)
+}
+
 #[test]
 fn a_grid_shaped_for_the_view_lights_flat_water_exactly() {
     // The survey shapes the caustic triangles' coarse grid as N/k × N·k cells so that their
@@ -572,12 +586,7 @@ fn a_grid_shaped_for_the_view_lights_flat_water_exactly() {
     scene.effects.caustic_photon_density = underlight::scene::PhotonSpread::View;
     scene.effects.caustic_grid = 60;
     // The survey's k for this view, on the CPU as the frame computes it.
-    let extents = underlight::frame::target_extents(&scene, scene.output, 64.0, 1.0);
-    let uniforms = underlight::frame::uniforms::FrameUniforms::new(&scene, scene.bounds(), &extents, 1.0);
-    let bvh = underlight::bvh::Bvh::of_scene(&scene);
-    let warp = underlight::frame::photon_density::view_adapted(&scene, scene.bounds(), &bvh, &uniforms, None)
-        .caustics
-        .expect("the pool is in view");
+    let (_, warp) = surveyed_caustic_warp(&scene);
     eprintln!("grid aspect k = {}", warp.grid_aspect);
     assert!(!(0.8..=1.25).contains(&warp.grid_aspect), "the view should shape the grid: k = {}", warp.grid_aspect);
     assert_flat_floor_lit_exactly(&scene, "grid shaped for the view");
@@ -595,12 +604,7 @@ fn the_survey_spends_no_photons_on_receivers_the_camera_sees_in_shadow() {
     let mut scene = pool_with(0.0, CausticEstimator::Triangles, 320);
     scene.effects.caustic_photon_density = underlight::scene::PhotonSpread::View;
     scene.meshes.push(common::block("roof", glam::Vec3::new(-6.0, 0.3, -6.0), glam::Vec3::new(0.0, 0.35, 6.0)));
-    let extents = underlight::frame::target_extents(&scene, scene.output, 64.0, 1.0);
-    let uniforms = underlight::frame::uniforms::FrameUniforms::new(&scene, scene.bounds(), &extents, 1.0);
-    let bvh = underlight::bvh::Bvh::of_scene(&scene);
-    let warp = underlight::frame::photon_density::view_adapted(&scene, scene.bounds(), &bvh, &uniforms, None)
-        .caustics
-        .expect("the pool is in view");
+    let (uniforms, warp) = surveyed_caustic_warp(&scene);
     // Where each photon of a 200² grid enters the (flat) water, through the warp and the
     // light's window, and how many enter under the roof.
     let inverse = glam::Mat4::from_cols_array_2d(&uniforms.light_inv_view_proj);
