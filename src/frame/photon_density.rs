@@ -262,11 +262,11 @@ pub fn view_adapted(
 /// light. A pixel that sees a receiver in shadow sees no caustic, and the photons cast towards
 /// it are blocked before the water (a deck, a roof) or land on what casts the shadow. Counted,
 /// such pixels drew photons that light nothing the camera sees, or too many onto what casts
-/// the shadow: on the port 18 % of the caustic photons were blocked before the water (9 % now). Not
-/// counted, the caustic error at 320×200 fell by 7.5 %, 1.4 % and 6.2 % on the tank, the port
-/// and the storage (the mean over t = 1–5 s; docs/accuracy.md, "Photons for lit receivers
-/// only"). The waves bend some light into the shadow's edge; the histogram's blur keeps
-/// photons there.
+/// the shadow: on the port 18 % of the caustic photons were blocked before the water (9 %
+/// since). Not counted, the caustic error at 320×200 fell by 7.5 %, 1.4 % and 6.2 % on the
+/// tank, the port and the storage (the mean over t = 1–5 s; docs/accuracy.md, "Photons for lit
+/// receivers only"). The waves bend some light into the shadow's edge; the histogram's blur
+/// keeps photons there.
 fn lit_through_flat_water(scene: &Scene, bvh: &Bvh, p: DVec3, bounds: (DVec3, DVec3)) -> bool {
     const SELF_HIT: f64 = 1e-4; // m: leaves the receiver's own triangle (hits are f64)
     let entry = super::uniforms::photon_entry(scene, p.as_vec3()).as_dvec3();
@@ -300,14 +300,14 @@ fn histogram_cell(uv: Vec2) -> (usize, usize) {
 const GRID_ASPECT_MAX: f32 = 2.0;
 /// The least k either way that leaves the square grid (`grid_aspect_level`). Any other grid
 /// moves every photon, and a near-square estimate is noise: the tank's reads 1.07 or 0.92
-/// depending on which receivers the survey counts, and a grid of 2^(±1/4) read worse than the
-/// square there (docs/accuracy.md, "The photon grid's aspect on screen").
+/// depending on which receivers the survey counts, and a grid of 2^(−1/4) read worse than the
+/// square there (docs/accuracy.md, "The grid's aspect in levels").
 const GRID_ASPECT_MIN: f32 = 1.25;
 /// The grid aspects the survey chooses among beyond `GRID_ASPECT_MIN` (`grid_aspect_level`):
 /// a quarter octave apart, up to `GRID_ASPECT_MAX` either way.
 const GRID_ASPECT_LEVELS_PER_OCTAVE: f32 = 4.0;
-/// How far past the midpoint between two levels the estimate must move, in levels, before
-/// the grid leaves the level the previous survey chose (`grid_aspect_level`).
+/// How far past the boundary between two levels the estimate must move, in quarter octaves,
+/// before the grid leaves the level the previous survey chose (`grid_aspect_level`).
 const GRID_ASPECT_HYSTERESIS: f32 = 0.25;
 /// A survey ray's L_v / L_u counts as at most 16 either way (`grid_aspect`): neighbours on two
 /// receivers give steps of no meaning, and unbounded they would rule the mean.
