@@ -115,8 +115,9 @@ frame_uniforms! {
     godray_density_warped: f32,
     /// k: the caustic triangles' coarse grid is N/k columns by N·k rows, the same photons as
     /// N × N, so that their mesh cells are square on screen on average
-    /// (`frame::photon_density`, from the view's survey; 1, the paper's square grid, without
-    /// it). Read by `caustics_triangles.geom` only.
+    /// (`frame::photon_density`, from the view's survey; 1, a square grid, without it and for
+    /// the paper's points). Read through `caustic_grid_cell` (caustic_splat.glsl) by
+    /// `caustics_triangles.geom` and by the points' recording variant.
     caustic_grid_aspect: f32,
     /// The caustic photon grid's warp (`frame::photon_density`): the inverse cumulative
     /// density of the window's v, `PHOTON_DENSITY_KNOTS` knots at grid v = k / SEGMENTS.

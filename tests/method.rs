@@ -402,8 +402,9 @@ fn compare_photons_on_grid(model: WaterModel, density: underlight::scene::Photon
         PhotonCaster { uniforms: &uniforms, noise: &noise, light_map: &light_map, light_normals: &light_normals };
     let (grid, sub) = (scene.effects.caustic_grid, scene.effects.caustic_subdivision);
     // The coarse grid: N/k columns, as many rows as N² cells fill (`caustic_grid_cell` in
-    // caustic_splat.glsl); the paper's is square.
-    let aspect = if triangles { uniforms.caustic_grid_aspect } else { 1.0 };
+    // caustic_splat.glsl); the survey leaves the paper's square.
+    let aspect = uniforms.caustic_grid_aspect;
+    assert!(triangles || aspect == 1.0, "the paper's grid is square: k = {aspect}");
     if triangles {
         assert!((aspect - 1.0).abs() > 0.2, "the wide view should shape the triangles' grid: k = {aspect}");
     }

@@ -24,6 +24,14 @@ bool caustic_grid_cell(uvec2 invocation, uint grid, out uvec2 cell, out uvec2 ce
     return cell.y < cells.y;
 }
 
+// Where photon `sub` of coarse `cell` lies on that grid (`photons_per_axis`: cells ×
+// SUBDIVISION), from its global index, so that every invocation that casts a photon computes
+// the same bits for it (photon_grid_uv's cell + sub / SUBDIVISION rounds differently on the
+// two sides of a cell's border, and the triangles' meshes would crack there).
+vec2 caustic_grid_photon_uv(uvec2 cell, uvec2 sub, uint subdivision, vec2 photons_per_axis) {
+    return (vec2(cell * subdivision + sub) + 0.5) / photons_per_axis;
+}
+
 // Whether the camera sees the side of the receiver (normal n, either orientation) that light
 // travelling along `light_dir` falls on. A photon on the top of a rail seen from below, or on
 // the far face of a thin panel, lights nothing the camera sees; the depth test cannot tell

@@ -45,7 +45,7 @@ void main() {
                 photon_debug.records[2 * index + 1] = vec4(0.0);
                 continue;
             }
-            vec2 uv = (vec2(cell * SUBDIVISION + uvec2(i, j)) + 0.5) / photons_per_axis;
+            vec2 uv = caustic_grid_photon_uv(cell, uvec2(i, j), SUBDIVISION, photons_per_axis);
             bool landed = cast_photon(uv, photons_per_axis, ph);
             photon_debug.records[2 * index] = vec4(ph.hit, landed ? 1.0 : -float(photon_fate));
             photon_debug.records[2 * index + 1] = vec4(ph.surface, ph.flux);

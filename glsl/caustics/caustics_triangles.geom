@@ -374,11 +374,9 @@ void main() {
     for (int j = 0; j < side; ++j) {
         for (int i = 0; i < side; ++i) {
             int k = j * side + i;
-            // Sub-cell SUBDIVISION is the neighbour cell's first photon. The position comes
-            // from the photon's global index, so both invocations that cast a border photon
-            // compute the same bits and their meshes meet without cracks (photon_grid_uv's
-            // cell + sub/SUBDIVISION rounds differently on the two sides).
-            vec2 uv = (vec2(cell * SUBDIVISION + uvec2(i, j)) + 0.5) / photons_per_axis;
+            // Sub-cell SUBDIVISION is the neighbour cell's first photon, at the same bits as
+            // the neighbour casts it (caustic_grid_photon_uv).
+            vec2 uv = caustic_grid_photon_uv(cell, uvec2(i, j), SUBDIVISION, photons_per_axis);
             Photon ph;
             landed[k] = cast_photon(uv, photons_per_axis, ph);
             hit[k] = ph.hit;

@@ -678,10 +678,6 @@ impl Frame {
                 let view = crate::scene::PhotonSpread::View;
                 if let (Some(d), true) = (&densities.caustics, e.caustic_photon_density == view) {
                     d.apply_to_caustics(&mut u);
-                    // Only the triangles' grid takes the survey's shape; the paper's is square.
-                    if e.caustic_estimator != crate::scene::CausticEstimator::Triangles {
-                        u.caustic_grid_aspect = 1.0;
-                    }
                 }
                 if let (Some(d), true) = (&densities.godrays, e.godray_photon_density == view) {
                     d.apply_to_godrays(&mut u);

@@ -36,8 +36,9 @@ use crate::shader_abi::{FrameUniforms, PHOTON_DENSITY_KNOTS as KNOTS, PHOTON_DEN
 use glam::{DVec2, DVec3, Mat4, Vec2, Vec3, Vec4};
 
 /// Camera rays per axis of the survey (x, y): each stands for a 1/4000 share of the pixels.
-/// With the beams' steps, a survey takes 13–15 ms on one core of the 2-core machine (the
-/// built-in scenes, release build), whenever the camera or the light moves.
+/// With the beams' steps and the lit test, a survey takes 9–16 ms on one core of the 2-core
+/// machine (the built-in scenes at 320×200, release build; `render` prints it), whenever the
+/// camera or the light moves.
 const RAYS: [usize; 2] = [80, 50];
 /// Passes of a 3×3 box blur over the histogram. The blur stands for the waves, which bend a
 /// photon sideways from where flat water would take it, and it keeps the warp smooth: the
@@ -249,8 +250,14 @@ pub fn view_adapted(
     ViewDensities {
         caustics: (landed >= MIN_RAYS).then(|| {
             let density = survey_density(receivers);
-            let previous_aspect = previous.and_then(|p| p.caustics).map(|c| c.grid_aspect);
-            let grid_aspect = grid_aspect_level(grid_aspect(&density, &receiver_uv, ray_step), previous_aspect);
+            // Only the triangles' mesh cells want a shaped grid; the paper's points keep its
+            // square one.
+            let grid_aspect = if scene.effects.caustic_estimator == crate::scene::CausticEstimator::Triangles {
+                let previous_aspect = previous.and_then(|p| p.caustics).map(|c| c.grid_aspect);
+                grid_aspect_level(grid_aspect(&density, &receiver_uv, ray_step), previous_aspect)
+            } else {
+                1.0
+            };
             PhotonDensity { grid_aspect, ..PhotonDensity::from_histogram(&density) }
         }),
         godrays: (crossed >= MIN_RAYS).then(|| PhotonDensity::from_histogram(&survey_density(crossings))),
