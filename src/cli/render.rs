@@ -136,7 +136,14 @@ pub(super) fn run(cli: &Cli, args: &SceneArgs) -> Result<i32> {
             e.caustic[1],
             e.light_map
         );
-        renderer.render(args.frames.max(1), args.time, 1.0 / 60.0, true)?
+        let rendered = renderer.render(args.frames.max(1), args.time, 1.0 / 60.0, true)?;
+        if renderer.frame.photon_surveys > 0 {
+            println!(
+                "photon survey (CPU, where the view wants the photons): {:.1} ms",
+                renderer.frame.photon_survey_time.as_secs_f64() * 1e3
+            );
+        }
+        rendered
     };
     let images = images.expect("read back requested");
     let silent = images.silent_effects(&scene);

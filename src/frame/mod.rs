@@ -350,7 +350,7 @@ pub const GODRAY_SAME_SURFACE: f32 = 0.25;
 type PhotonDensityKey = ([[f32; 4]; 4], [[f32; 4]; 4], [f32; 2], [f32; 2]);
 
 /// While the camera moves, the photon density is surveyed again at most every this many
-/// frames. The survey costs 12–15 ms of CPU (docs/performance.md). A warp a few frames old only
+/// frames. The survey costs 9–16 ms of CPU (docs/performance.md). A warp a few frames old only
 /// spreads the photons for where the camera just was: each photon still carries its warped
 /// cell's flux, so the light stays right, and only the photons' spacing lags.
 pub const PHOTON_SURVEY_INTERVAL: u32 = 8;
@@ -392,6 +392,8 @@ pub struct Frame {
     frames_since_survey: u32,
     /// Surveys run since the frame was created (for the tests and the curious).
     pub photon_surveys: u64,
+    /// The last survey's CPU time (`render` prints it; docs/performance.md).
+    pub photon_survey_time: std::time::Duration,
     _nearest: Sampler,
     _linear: Sampler,
 }
@@ -633,6 +635,7 @@ impl Frame {
             photon_density: None,
             frames_since_survey: 0,
             photon_surveys: 0,
+            photon_survey_time: std::time::Duration::ZERO,
             _nearest: nearest,
             _linear: linear,
         })
@@ -668,7 +671,9 @@ impl Frame {
             };
             if stale {
                 let previous = self.photon_density.as_ref().map(|(_, densities)| densities);
+                let started = std::time::Instant::now();
                 let densities = photon_density::view_adapted(&self.scene, self.bounds, bvh, &u, previous);
+                self.photon_survey_time = started.elapsed();
                 self.photon_density = Some((key, densities));
                 self.frames_since_survey = 0;
                 self.photon_surveys += 1;
