@@ -14,6 +14,23 @@ pub fn photon_grid_uv(cell: UVec2, sub: UVec2, subdiv: u32, grid: UVec2) -> Vec2
     (cell.as_vec2() + (sub.as_vec2() + 0.5) / subdiv as f32) / grid.as_vec2()
 }
 
+/// See `caustic_grid_cell` in caustic_splat.glsl: the coarse cell of draw invocation
+/// `invocation` on the caustic grid of N/k × N·k cells (`grid` = N, `aspect` = k,
+/// `FrameUniforms::caustic_grid_aspect`), with the grid's cells per axis; `None` for the last
+/// row's leftover invocations.
+pub fn caustic_grid_cell(invocation: UVec2, grid: u32, aspect: f32) -> (Option<UVec2>, UVec2) {
+    let columns = ((grid as f32 / aspect).round() as u32).clamp(1, grid * grid);
+    let cells = UVec2::new(columns, grid * grid / columns);
+    let number = invocation.y * grid + invocation.x;
+    let cell = UVec2::new(number % columns, number / columns);
+    ((cell.y < cells.y).then_some(cell), cells)
+}
+
+/// See `caustic_grid_photon_uv` in caustic_splat.glsl.
+pub fn caustic_grid_photon_uv(cell: UVec2, sub: UVec2, subdivision: u32, photons_per_axis: Vec2) -> Vec2 {
+    ((cell * subdivision + sub).as_vec2() + 0.5) / photons_per_axis
+}
+
 /// See `demo_wave_gradient` in shader_math.glsl.
 pub fn demo_wave_gradient(uv: Vec2, t: f32) -> Vec2 {
     let k1 = Vec2::new(7.0, 3.0) * 2.0 * PI;
@@ -680,6 +697,30 @@ impl PhotonCaster<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_caustic_grid_numbers_every_shaped_cell_once() {
+        // N = 4, k = 1.5: round(4 / 1.5) = 3 columns, 16 / 3 = 5 rows; the 16th invocation has
+        // no cell. Every cell of the 3 × 5 grid comes from exactly one invocation.
+        let mut seen = std::collections::HashSet::new();
+        let mut leftover = 0;
+        for number in 0..16u32 {
+            let (cell, cells) = caustic_grid_cell(UVec2::new(number % 4, number / 4), 4, 1.5);
+            assert_eq!(cells, UVec2::new(3, 5));
+            match cell {
+                Some(c) => assert!(c.x < 3 && c.y < 5 && seen.insert(c), "cell {c} twice or outside"),
+                None => leftover += 1,
+            }
+        }
+        assert_eq!((seen.len(), leftover), (15, 1));
+        // The square grid is the invocations' own numbering.
+        assert_eq!(caustic_grid_cell(UVec2::new(2, 3), 4, 1.0), (Some(UVec2::new(2, 3)), UVec2::splat(4)));
+        // A photon's place from its index: the neighbour cell's first photon is this cell's last + 1.
+        let per_axis = Vec2::new(9.0, 15.0);
+        let last = caustic_grid_photon_uv(UVec2::new(1, 2), UVec2::new(3, 3), 3, per_axis);
+        let next = caustic_grid_photon_uv(UVec2::new(2, 3), UVec2::ZERO, 3, per_axis);
+        assert_eq!(last, next);
+    }
 
     /// The constants this file mirrors by hand hold the same values as their GLSL originals
     /// (a shader edited alone would leave the twin, and the tests comparing with it, behind).

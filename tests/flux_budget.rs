@@ -48,9 +48,9 @@ fn every_photon_and_watt_is_accounted_for() {
         let bvh = underlight::bvh::Bvh::of_scene(&scene);
         let survey = underlight::frame::photon_density::view_adapted(&scene, scene.bounds(), &bvh, &u, None);
         let k = survey.caustics.expect("the scene is in view").grid_aspect;
-        let columns = (48.0 / k).round() as u64;
-        eprintln!("{name}: grid aspect {k}, {columns} columns");
-        assert_eq!(budget.cast, columns * (48 * 48 / columns) * 4, "{name}: photons recorded");
+        let (_, cells) = underlight::shader_math::caustic_grid_cell(glam::UVec2::ZERO, 48, k);
+        eprintln!("{name}: grid aspect {k}, {} × {} coarse cells", cells.x, cells.y);
+        assert_eq!(budget.cast, (cells.x * cells.y * 4) as u64, "{name}: photons recorded");
         assert_eq!(budget.unknown, 0, "{name}: records with a code the budget does not know");
         let dropped: u64 = budget.dropped.iter().map(|s| s.photons).sum();
         assert_eq!(budget.landed.photons + dropped, budget.cast, "{name}: photons neither landed nor dropped");

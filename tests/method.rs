@@ -339,7 +339,7 @@ fn compare_photons_on_grid(model: WaterModel, density: underlight::scene::Photon
     use glam::{UVec2, Vec3};
     use underlight::frame::uniforms::FrameUniforms;
     use underlight::frame::FrameOptions;
-    use underlight::shader_math::{NoiseTexture, PhotonCaster};
+    use underlight::shader_math::{caustic_grid_cell, caustic_grid_photon_uv, NoiseTexture, PhotonCaster};
 
     // Waves with noise and a tilted sun, so refraction, the iteration and the drops all matter.
     let mut scene = pool(0.04);
@@ -408,27 +408,25 @@ fn compare_photons_on_grid(model: WaterModel, density: underlight::scene::Photon
     if triangles {
         assert!((aspect - 1.0).abs() > 0.2, "the wide view should shape the triangles' grid: k = {aspect}");
     }
-    let columns = ((grid as f32 / aspect).round() as u32).clamp(1, grid * grid);
-    let cells = UVec2::new(columns, grid * grid / columns);
+    let (_, cells) = caustic_grid_cell(UVec2::ZERO, grid, aspect);
     let per_axis = (cells * sub).as_vec2();
     let texel = 2.0 * uniforms.light_half_extent[0].max(uniforms.light_half_extent[1]) / uniforms.light_map_size;
     let (mut both, mut disagree, mut far, mut landed, mut total) = (0, 0, 0, 0, 0);
     let mut worst = 0.0f32;
     for cy in 0..grid {
         for cx in 0..grid {
-            let number = cy * grid + cx;
-            let cell = UVec2::new(number % columns, number / columns);
+            let (cell, _) = caustic_grid_cell(UVec2::new(cx, cy), grid, aspect);
             for j in 0..sub {
                 for i in 0..sub {
                     let index = (((cy * grid + cx) * sub + j) * sub + i) as usize;
                     let gpu = records[2 * index];
-                    if cell.y >= cells.y {
+                    let Some(cell) = cell else {
                         assert_eq!([gpu, records[2 * index + 1]], [[0.0; 4]; 2], "photon {index} is past the grid");
                         continue;
-                    }
+                    };
                     total += 1;
                     let gpu_landed = gpu[3] > 0.5;
-                    let uv = ((cell * sub + UVec2::new(i, j)).as_vec2() + 0.5) / per_axis;
+                    let uv = caustic_grid_photon_uv(cell, UVec2::new(i, j), sub, per_axis);
                     let cpu = caster.cast(uv, per_axis);
                     landed += gpu_landed as usize;
                     match (gpu_landed, cpu) {
