@@ -5,7 +5,9 @@ of every pixel; with one file, metrics::gap_fraction of it (zero pixels among th
 15x15 mean exceeds a tenth of the mean of the pixels that hold anything, channel sums).
 A GPU buffer smaller than the reference is first upsampled to the reference's size bilinearly
 between texel centres, clamped at the border, as compose samples it: the error of the light
-the final image shows, at the output's resolution when the reference is traced there.
+the final image shows, at the output's resolution when the reference is traced there. One
+larger by a whole factor f on both axes is averaged over f×f blocks instead: rendered at f
+times the size, f² samples per pixel.
 docs/accuracy.md's step-by-step table and own-size gap fractions:
 
     underlight reference --scene tank --width 320 --height 200 --out out/ref
@@ -65,6 +67,18 @@ def upsample(w, h, c, values, w2, h2):
     return out
 
 
+def box_downsample(w, h, c, values, f):
+    """The mean of each f×f block: a buffer rendered at f times the reference's size per axis,
+    brought to it as f² samples per pixel (docs/accuracy.md, "What the remaining error is not")."""
+    out = []
+    for y in range(h // f):
+        for x in range(w // f):
+            for k in range(c):
+                total = sum(values[((y * f + j) * w + x * f + i) * c + k] for j in range(f) for i in range(f))
+                out.append(total / (f * f))
+    return out
+
+
 def main():
     if len(sys.argv) not in (2, 3):
         sys.exit(__doc__)
@@ -76,6 +90,10 @@ def main():
     if c == c2 and w <= w2 and h <= h2 and (w, h) != (w2, h2):
         print("%s: %dx%d upsampled to the reference's %dx%d" % (sys.argv[1], w, h, w2, h2))
         gpu, w, h = upsample(w, h, c, gpu, w2, h2), w2, h2
+    if c == c2 and w > w2 and w % w2 == 0 and w // w2 == h // h2 and h % h2 == 0:
+        f = w // w2
+        print("%s: %dx%d averaged over %dx%d blocks to the reference's %dx%d" % (sys.argv[1], w, h, f, f, w2, h2))
+        gpu, w, h = box_downsample(w, h, c, gpu, f), w2, h2
     if (w, h, c) != (w2, h2, c2):
         sys.exit("%s is %dx%dx%d, %s is %dx%dx%d" % (sys.argv[1], w, h, c, sys.argv[2], w2, h2, c2))
     mean_ref = sum(ref) / len(ref)

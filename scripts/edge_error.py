@@ -3,7 +3,8 @@
 (shadow edges, silhouettes, a receiver's rim). A pixel is in the band of width k when the
 reference lights a pixel within k pixels of it (Chebyshev distance) and leaves another one
 dark; lit means any channel above zero, which is exact for the reference's photon gathering.
-For k = 1 and 2 it prints the band's share of the pixels and of the squared error, and the
+It prints the squared error's share where one of the two buffers is dark and the other lit,
+and for k = 1 and 2 the band's share of the pixels and of the squared error, and the
 relative RMSE (compare.py's) with the band's pixels taken from the reference: the most that
 perfect edges could gain. docs/accuracy.md, "What the remaining error is not":
 
@@ -38,6 +39,11 @@ def main():
     mean_ref = sum(ref) / len(ref)
     rmse = math.sqrt(total / len(ref)) / mean_ref
     print("relative RMSE %.3f" % rmse)
+    gpu_lit = [any(gpu[p * c + i] > 0.0 for i in range(c)) for p in range(n)]
+    dark_lit = sum(e for e, r, g in zip(error, lit, gpu_lit) if g and not r)
+    lit_dark = sum(e for e, r, g in zip(error, lit, gpu_lit) if r and not g)
+    print("where the reference is dark and the GPU lit: %.1f %% of the squared error; lit and dark: %.1f %%"
+          % (100.0 * dark_lit / max(total, 1e-30), 100.0 * lit_dark / max(total, 1e-30)))
     for k in (1, 2):
         near_lit, near_dark = near(lit, w, h, k), near([not v for v in lit], w, h, k)
         band = [a and b for a, b in zip(near_lit, near_dark)]
