@@ -7,7 +7,9 @@ A GPU buffer smaller than the reference is first upsampled to the reference's si
 between texel centres, clamped at the border, as compose samples it: the error of the light
 the final image shows, at the output's resolution when the reference is traced there. One
 larger by a whole factor f on both axes is averaged over f×f blocks instead: rendered at f
-times the size, f² samples per pixel.
+times the size, f² samples per pixel. With --blur N both buffers are first averaged over an
+N×N box around each pixel (the part of it inside the buffer): the error left at scales above
+N pixels.
 docs/accuracy.md's step-by-step table and own-size gap fractions:
 
     underlight reference --scene tank --width 320 --height 200 --out out/ref
@@ -15,6 +17,8 @@ docs/accuracy.md's step-by-step table and own-size gap fractions:
     python3 scripts/compare.py out/gpu/caustics.pfm out/ref/caustics.pfm
     underlight render --scene tank --frames 1 --hdr out/own --out out/own/o.png
     python3 scripts/compare.py out/own/caustics.pfm
+    underlight reference --scene port --photons 64000000 --out out/ref-own
+    python3 scripts/compare.py --blur 3 out/own/caustics.pfm out/ref-own/caustics.pfm
 """
 import math
 import sys
@@ -79,26 +83,58 @@ def box_downsample(w, h, c, values, f):
     return out
 
 
+def box_blur(w, h, c, values, n):
+    """Each pixel the mean of the n×n box around it, over the part of the box inside the buffer."""
+    r = n // 2
+    out = [0.0] * len(values)
+    for k in range(c):
+        table = [0.0] * ((w + 1) * (h + 1))  # summed-area table, a zero row and column in front
+        for y in range(h):
+            row = 0.0
+            for x in range(w):
+                row += values[(y * w + x) * c + k]
+                table[(y + 1) * (w + 1) + x + 1] = table[y * (w + 1) + x + 1] + row
+        for y in range(h):
+            y0, y1 = max(y - r, 0), min(y + r + 1, h)
+            for x in range(w):
+                x0, x1 = max(x - r, 0), min(x + r + 1, w)
+                total = (table[y1 * (w + 1) + x1] - table[y0 * (w + 1) + x1]
+                         - table[y1 * (w + 1) + x0] + table[y0 * (w + 1) + x0])
+                out[(y * w + x) * c + k] = total / ((x1 - x0) * (y1 - y0))
+    return out
+
+
 def main():
-    if len(sys.argv) not in (2, 3):
+    args = sys.argv[1:]
+    blur = 1
+    if "--blur" in args:
+        i = args.index("--blur")
+        if i + 1 >= len(args) or not args[i + 1].isdigit() or int(args[i + 1]) < 1:
+            sys.exit("--blur takes a box size in pixels, a whole number of at least 1")
+        blur = int(args[i + 1])
+        del args[i:i + 2]
+    if len(args) not in (1, 2):
         sys.exit(__doc__)
-    w, h, c, gpu = read_pfm(sys.argv[1])
-    if len(sys.argv) == 2:
-        print("%s: gap fraction %.4f" % (sys.argv[1], gap_fraction(w, h, c, gpu)))
+    w, h, c, gpu = read_pfm(args[0])
+    if len(args) == 1:
+        print("%s: gap fraction %.4f" % (args[0], gap_fraction(w, h, c, gpu)))
         return
-    w2, h2, c2, ref = read_pfm(sys.argv[2])
+    w2, h2, c2, ref = read_pfm(args[1])
     if c == c2 and w <= w2 and h <= h2 and (w, h) != (w2, h2):
-        print("%s: %dx%d upsampled to the reference's %dx%d" % (sys.argv[1], w, h, w2, h2))
+        print("%s: %dx%d upsampled to the reference's %dx%d" % (args[0], w, h, w2, h2))
         gpu, w, h = upsample(w, h, c, gpu, w2, h2), w2, h2
     if c == c2 and w > w2 and w % w2 == 0 and w // w2 == h // h2 and h % h2 == 0:
         f = w // w2
-        print("%s: %dx%d averaged over %dx%d blocks to the reference's %dx%d" % (sys.argv[1], w, h, f, f, w2, h2))
+        print("%s: %dx%d averaged over %dx%d blocks to the reference's %dx%d" % (args[0], w, h, f, f, w2, h2))
         gpu, w, h = box_downsample(w, h, c, gpu, f), w2, h2
     if (w, h, c) != (w2, h2, c2):
-        sys.exit("%s is %dx%dx%d, %s is %dx%dx%d" % (sys.argv[1], w, h, c, sys.argv[2], w2, h2, c2))
+        sys.exit("%s is %dx%dx%d, %s is %dx%dx%d" % (args[0], w, h, c, args[1], w2, h2, c2))
+    if blur > 1:
+        print("both buffers averaged over %dx%d boxes" % (blur, blur))
+        gpu, ref = box_blur(w, h, c, gpu, blur), box_blur(w, h, c, ref, blur)
     mean_ref = sum(ref) / len(ref)
     rmse = math.sqrt(sum((g - r) ** 2 for g, r in zip(gpu, ref)) / len(ref)) / mean_ref
-    print("%s: relative RMSE %.3f, flux %+.2f %%" % (sys.argv[1], rmse, 100 * (sum(gpu) / sum(ref) - 1)))
+    print("%s: relative RMSE %.3f, flux %+.2f %%" % (args[0], rmse, 100 * (sum(gpu) / sum(ref) - 1)))
 
 
 if __name__ == "__main__":

@@ -114,13 +114,26 @@ pub fn table(rows: &[SweepRow]) -> String {
     s
 }
 
-/// Error against GPU time as a PNG: every setting a dot, the Pareto front joined by a line.
-/// Text needs a TrueType font; DejaVu Sans is looked for where Debian and Ubuntu put it.
+/// The plot's series: one per estimator and filter setting, in the order the rows first
+/// show them, each with its legend label ("triangles, filter on").
+pub fn plot_series(rows: &[SweepRow]) -> Vec<(String, bool)> {
+    let mut series: Vec<(String, bool)> = Vec::new();
+    for r in rows.iter().filter(|r| ranked_error(r).is_finite()) {
+        if !series.iter().any(|(e, f)| *e == r.estimator && *f == r.filter) {
+            series.push((r.estimator.clone(), r.filter));
+        }
+    }
+    series
+}
+
+/// Error against GPU time as a PNG: every setting a dot, coloured by its estimator and shaped
+/// by its filter (circle off, triangle on), and the Pareto front over all of them joined by a
+/// line. Text needs a TrueType font; DejaVu Sans is looked for where Debian and Ubuntu put it.
 pub fn plot(rows: &[SweepRow], title: &str, path: &Path) -> Result<()> {
     use plotters::prelude::*;
     register_font()?;
-    let points: Vec<(f64, f64, bool, bool)> =
-        rows.iter().map(|r| (r.effect_ms, ranked_error(r), r.pareto, r.filter)).filter(|p| p.1.is_finite()).collect();
+    let points: Vec<(f64, f64, &SweepRow)> =
+        rows.iter().map(|r| (r.effect_ms, ranked_error(r), r)).filter(|p| p.1.is_finite()).collect();
     if points.is_empty() {
         bail!("nothing to plot: no setting has a measurable error");
     }
@@ -142,23 +155,37 @@ pub fn plot(rows: &[SweepRow], title: &str, path: &Path) -> Result<()> {
         .label_style(("sans-serif", 15))
         .draw()
         .map_err(|e| draw(&e))?;
-    let mut front: Vec<(f64, f64)> = points.iter().filter(|p| p.2).map(|p| (p.0, p.1)).collect();
+    let mut front: Vec<(f64, f64)> = points.iter().filter(|p| p.2.pareto).map(|p| (p.0, p.1)).collect();
     front.sort_by(|a, b| a.0.total_cmp(&b.0));
     chart
         .draw_series(LineSeries::new(front.clone(), RED.stroke_width(2)))
         .map_err(|e| draw(&e))?
         .label("Pareto front")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], RED.stroke_width(2)));
-    chart
-        .draw_series(points.iter().filter(|p| !p.3).map(|p| Circle::new((p.0, p.1), 5, BLUE.filled())))
-        .map_err(|e| draw(&e))?
-        .label("filter off")
-        .legend(|(x, y)| Circle::new((x + 10, y), 5, BLUE.filled()));
-    chart
-        .draw_series(points.iter().filter(|p| p.3).map(|p| TriangleMarker::new((p.0, p.1), 7, GREEN.filled())))
-        .map_err(|e| draw(&e))?
-        .label("filter on")
-        .legend(|(x, y)| TriangleMarker::new((x + 10, y), 7, GREEN.filled()));
+    // Blue for the paper's points, dark yellow for the triangles, grey for anything else.
+    let colour = |estimator: &str| match estimator {
+        "paper" => BLUE,
+        "triangles" => RGBColor(200, 140, 0),
+        _ => RGBColor(110, 110, 110),
+    };
+    for (estimator, filter) in plot_series(rows) {
+        let c = colour(&estimator).filled();
+        let members = points.iter().filter(|p| p.2.estimator == estimator && p.2.filter == filter);
+        let label = format!("{estimator}, filter {}", if filter { "on" } else { "off" });
+        if filter {
+            chart
+                .draw_series(members.map(|p| TriangleMarker::new((p.0, p.1), 7, c)))
+                .map_err(|e| draw(&e))?
+                .label(label)
+                .legend(move |(x, y)| TriangleMarker::new((x + 10, y), 7, c));
+        } else {
+            chart
+                .draw_series(members.map(|p| Circle::new((p.0, p.1), 5, c)))
+                .map_err(|e| draw(&e))?
+                .label(label)
+                .legend(move |(x, y)| Circle::new((x + 10, y), 5, c));
+        }
+    }
     chart
         .configure_series_labels()
         .position(SeriesLabelPosition::UpperRight)
@@ -248,6 +275,22 @@ mod tests {
         let cells = |line: &str| line.matches('|').count();
         let md_lines: Vec<&str> = md.lines().collect();
         assert!(md_lines.iter().all(|l| cells(l) == cells(md_lines[0])), "{md}");
+    }
+
+    #[test]
+    fn the_plot_has_a_series_per_estimator_and_filter() {
+        let mut unfiltered = row("paper", "beams");
+        unfiltered.filter = false;
+        let mut unmeasured = row("grid", "beams");
+        unmeasured.caustics_at_output = None;
+        unmeasured.caustics = None;
+        unmeasured.godrays = None;
+        let rows = [row("paper", "beams"), row("triangles", "beams"), unfiltered, row("paper", "marched"), unmeasured];
+        let series = plot_series(&rows);
+        assert_eq!(
+            series,
+            [("paper".to_string(), true), ("triangles".to_string(), true), ("paper".to_string(), false)]
+        );
     }
 
     #[test]
