@@ -48,6 +48,10 @@ pub struct SceneImages {
     /// normals.
     pub light_positions: Option<HdrImage>,
     pub light_normals: Option<HdrImage>,
+    /// With photon recording, where the frame has them: the second, steeper maps alike
+    /// (`frame::uniforms::steep_light_axis`).
+    pub steep_light_positions: Option<HdrImage>,
+    pub steep_light_normals: Option<HdrImage>,
     /// With photon recording: per caustic photon, (hit, landed) and (surface, flux).
     pub photon_records: Option<Vec<[f32; 4]>>,
     /// With photon recording and godray beams: per beam, (hit, fate) and (surface, flux).
@@ -93,6 +97,8 @@ pub struct SceneRenderer {
     effects: [Option<Readback>; 4],
     /// With photon recording: the light's position and normal maps.
     light_maps: Option<[Readback; 2]>,
+    /// And the second, steeper ones where the frame has them.
+    steep_light_maps: Option<[Readback; 2]>,
 }
 
 impl SceneRenderer {
@@ -119,7 +125,11 @@ impl SceneRenderer {
             (Some(s), true) => Some([Readback::new(device, &s.position)?, Readback::new(device, &s.normal)?]),
             _ => None,
         };
-        Ok(Self { frame, ring, output, scene_color, albedo_transmittance, effects, light_maps })
+        let steep_light_maps = match (frame.shadow.as_ref().and_then(|s| s.steep.as_ref()), options.record_photons) {
+            (Some(s), true) => Some([Readback::new(device, &s.position)?, Readback::new(device, &s.normal)?]),
+            _ => None,
+        };
+        Ok(Self { frame, ring, output, scene_color, albedo_transmittance, effects, light_maps, steep_light_maps })
     }
 
     /// Renders `frames` frames at times `t0 + k·dt`; with `read_back`, the last frame's
@@ -133,6 +143,7 @@ impl SceneRenderer {
     ) -> Result<(Vec<PassTimings>, Option<SceneImages>)> {
         let (out, sc, at, fx) = (&self.output, &self.scene_color, &self.albedo_transmittance, &self.effects);
         let lm = &self.light_maps;
+        let steep_lm = &self.steep_light_maps;
         let frame = &mut self.frame;
         let timings = run_frames(&mut self.ring, frames, t0, dt, |slot, time, last| {
             frame.record(slot, time);
@@ -152,6 +163,12 @@ impl SceneRenderer {
                     if let (Some([positions, normals]), Some(shadow)) = (lm, &frame.shadow) {
                         positions.record_from(cmd, &shadow.position, read);
                         normals.record_from(cmd, &shadow.normal, read);
+                    }
+                    if let (Some([positions, normals]), Some(steep)) =
+                        (steep_lm, frame.shadow.as_ref().and_then(|s| s.steep.as_ref()))
+                    {
+                        positions.record_from(cmd, &steep.position, read);
+                        normals.record_from(cmd, &steep.normal, read);
                     }
                 });
             }
@@ -185,6 +202,8 @@ impl SceneRenderer {
             godrays_filtered: effect(3)?,
             light_positions: self.light_maps.as_ref().map(|[p, _]| p.read()).transpose()?,
             light_normals: self.light_maps.as_ref().map(|[_, n]| n.read()).transpose()?,
+            steep_light_positions: self.steep_light_maps.as_ref().map(|[p, _]| p.read()).transpose()?,
+            steep_light_normals: self.steep_light_maps.as_ref().map(|[_, n]| n.read()).transpose()?,
             photon_records: self.frame.caustics.as_ref().and_then(|c| c.read_photon_records()),
             beam_records: self.frame.godrays.as_ref().and_then(|g| g.read_photon_records()),
         };

@@ -119,6 +119,12 @@ frame_uniforms! {
     /// the paper's points). Read through `caustic_grid_cell` (caustic_splat.glsl) by
     /// `caustics_triangles.geom` and by the points' recording variant.
     caustic_grid_aspect: f32,
+    /// The direction the second pair of light maps bends along under the water, steeper than
+    /// `refracted_light_axis` (zero where the maps do not bend): photons whose iteration
+    /// does not converge in the first maps search these (`frame::uniforms::steep_light_axis`).
+    steep_light_axis: [f32; 3],
+    /// `refracted_texel_stretch` for the second maps.
+    steep_texel_stretch: f32,
     /// The caustic photon grid's warp (`frame::photon_density`): the inverse cumulative
     /// density of the window's v, `PHOTON_DENSITY_KNOTS` knots at grid v = k / SEGMENTS.
     photon_density_rows: [f32; PHOTON_DENSITY_KNOTS],
@@ -131,7 +137,7 @@ frame_uniforms! {
 }
 const _: () = assert!(
     std::mem::size_of::<FrameUniforms>()
-        == 4 * 64 + 16 * 19 + 2 * 4 * PHOTON_DENSITY_KNOTS * (PHOTON_DENSITY_SEGMENTS + 1)
+        == 4 * 64 + 16 * 20 + 2 * 4 * PHOTON_DENSITY_KNOTS * (PHOTON_DENSITY_SEGMENTS + 1)
 );
 
 /// Segments of the caustic photon grid's warp per axis (`frame::photon_density`); its knots
@@ -196,6 +202,10 @@ pub mod bindings {
     pub const REFRACTION_ALBEDO: u32 = 14;
     pub const REFRACTION_DEPTH: u32 = 15;
     pub const REFLECTION_COLOR: u32 = 16;
+    /// The second light maps, bent along `FrameUniforms::steep_light_axis` (the shadow pass's
+    /// `steep` maps; the first maps again where the light does not bend).
+    pub const LIGHT_POSITION_STEEP: u32 = 17;
+    pub const LIGHT_NORMAL_STEEP: u32 = 18;
     /// Every binding by its macro name, for the shader compiler.
     pub const ALL: &[(&str, u32)] = &[
         ("UNIFORMS", UNIFORMS),
@@ -215,6 +225,8 @@ pub mod bindings {
         ("REFRACTION_ALBEDO", REFRACTION_ALBEDO),
         ("REFRACTION_DEPTH", REFRACTION_DEPTH),
         ("REFLECTION_COLOR", REFLECTION_COLOR),
+        ("LIGHT_POSITION_STEEP", LIGHT_POSITION_STEEP),
+        ("LIGHT_NORMAL_STEEP", LIGHT_NORMAL_STEEP),
     ];
 }
 

@@ -422,6 +422,8 @@ pub struct Photon {
     /// Flux after the surface (Fresnel applied), W.
     pub flux: f32,
     pub travelled: f32,
+    /// Its hit was found in the second, steeper light maps.
+    pub steep_map: bool,
 }
 
 /// GLSL `converged`: whether the iteration's estimate `hit` lies on the receiver stored at
@@ -516,6 +518,16 @@ pub struct PhotonCaster<'a> {
     pub noise: &'a NoiseTexture,
     pub light_map: &'a crate::image_io::HdrImage,
     pub light_normals: &'a crate::image_io::HdrImage,
+    /// The second, steeper maps (positions, normals), which the photons the first cannot
+    /// place search; None where the frame has none (`FrameUniforms::steep_light_axis` zero).
+    pub steep_maps: Option<(&'a crate::image_io::HdrImage, &'a crate::image_io::HdrImage)>,
+}
+
+/// How `PhotonCaster::intersect` ended (GLSL `intersect_receivers`' PHOTON_* codes).
+enum Intersection {
+    Landed(Vec3, f32),
+    LeavesMap,
+    NotConverged,
 }
 
 impl PhotonCaster<'_> {
@@ -536,28 +548,35 @@ impl PhotonCaster<'_> {
         }
     }
 
-    /// GLSL `light_map_point` (frame.glsl).
-    fn light_map_point(&self, p: Vec3) -> Vec3 {
+    /// GLSL `light_map_bend` (frame.glsl).
+    fn light_map_bend(&self, steep: bool) -> Vec3 {
         let u = self.uniforms;
-        light_map_point(p, u.water_level, Vec3::from_array(u.light_axis), Vec3::from_array(u.refracted_light_axis))
+        Vec3::from_array(if steep { u.steep_light_axis } else { u.refracted_light_axis })
+    }
+
+    /// GLSL `light_map_point` (frame.glsl).
+    fn light_map_point(&self, p: Vec3, steep: bool) -> Vec3 {
+        let u = self.uniforms;
+        light_map_point(p, u.water_level, Vec3::from_array(u.light_axis), self.light_map_bend(steep))
     }
 
     /// GLSL `light_map_direction` (frame.glsl).
-    fn light_map_direction(&self, p: Vec3) -> Vec3 {
+    fn light_map_direction(&self, p: Vec3, steep: bool) -> Vec3 {
         let u = self.uniforms;
-        let refracted = Vec3::from_array(u.refracted_light_axis);
+        let bend = self.light_map_bend(steep);
         if u.light_is_point > 0.0 {
             (p - Vec3::from_array(u.light_position)).normalize()
-        } else if refracted.y < -1e-3 && p.y < u.water_level {
-            refracted
+        } else if bend.y < -1e-3 && p.y < u.water_level {
+            bend
         } else {
             Vec3::from_array(u.light_axis)
         }
     }
 
     /// GLSL `light_texel`.
-    fn light_texel(&self, p: Vec3) -> Option<(u32, u32)> {
-        let c = glam::Mat4::from_cols_array_2d(&self.uniforms.light_view_proj) * self.light_map_point(p).extend(1.0);
+    fn light_texel(&self, p: Vec3, steep: bool) -> Option<(u32, u32)> {
+        let c =
+            glam::Mat4::from_cols_array_2d(&self.uniforms.light_view_proj) * self.light_map_point(p, steep).extend(1.0);
         if c.w <= 0.0 {
             return None;
         }
@@ -569,8 +588,21 @@ impl PhotonCaster<'_> {
         Some(((uv.x * size) as u32, (uv.y * size) as u32))
     }
 
-    fn receiver(&self, texel: (u32, u32)) -> [f32; 4] {
-        self.light_map.at(texel.0, texel.1)
+    /// GLSL `map_receiver` and `map_normal`: the stored receiver (w > 0 where one) and its
+    /// normal at a texel of either maps.
+    fn receiver(&self, texel: (u32, u32), steep: bool) -> [f32; 4] {
+        match (steep, self.steep_maps) {
+            (true, Some((positions, _))) => positions.at(texel.0, texel.1),
+            _ => self.light_map.at(texel.0, texel.1),
+        }
+    }
+
+    fn normal(&self, texel: (u32, u32), steep: bool) -> Vec3 {
+        let n = match (steep, self.steep_maps) {
+            (true, Some((_, normals))) => normals.at(texel.0, texel.1),
+            _ => self.light_normals.at(texel.0, texel.1),
+        };
+        Vec3::new(n[0], n[1], n[2])
     }
 
     /// GLSL `cast_photon`: the photon at light-space `uv` of a grid with `photons_per_axis.x`
@@ -601,8 +633,8 @@ impl PhotonCaster<'_> {
         if !water_covers(&w, ps.xz()) {
             return None;
         }
-        if let Some(texel) = self.light_texel(ps) {
-            let first = self.receiver(texel);
+        if let Some(texel) = self.light_texel(ps, false) {
+            let first = self.receiver(texel, false);
             if first[3] > 0.0 && (Vec3::new(first[0], first[1], first[2]) - o).dot(d) < t - 1e-3 {
                 return None;
             }
@@ -618,10 +650,46 @@ impl PhotonCaster<'_> {
             return None;
         }
         let rt = rt.normalize();
+        // The first maps, then, for a photon they cannot place, the second (steeper) ones.
+        let steep_exists = self.steep_maps.is_some() && u.steep_light_axis[1] < -1e-3;
+        let (hit, dist, steep_map) = match self.intersect(ps, rt, false) {
+            Intersection::Landed(hit, dist) => (hit, dist, false),
+            Intersection::LeavesMap | Intersection::NotConverged if steep_exists => {
+                match self.intersect(ps, rt, true) {
+                    Intersection::Landed(hit, dist) => (hit, dist, true),
+                    Intersection::LeavesMap | Intersection::NotConverged => return None,
+                }
+            }
+            Intersection::LeavesMap | Intersection::NotConverged => return None,
+        };
+        if hit.y > w.level + w.amplitude.abs() + w.noise_amplitude.abs() {
+            return None;
+        }
+        let n2 = photons_per_axis.x * photons_per_axis.y / (window_size.x * window_size.y);
+        let mut flux = u.light_strength * 4.0 * u.light_half_extent[0] * u.light_half_extent[1] / n2 * cell_scale;
+        if u.light_is_point > 0.0 {
+            let c = d.dot(Vec3::from_array(u.light_axis)).max(0.0);
+            flux *= c * c * c;
+        }
+        let photon = Photon {
+            surface: ps,
+            direction: rt,
+            hit,
+            flux: flux * fresnel_transmittance(cos_i, w.ior),
+            travelled: dist,
+            steep_map,
+        };
+        (hit.is_finite() && photon.flux.is_finite()).then_some(photon)
+    }
+
+    /// GLSL `intersect_receivers`: Shah's iteration against the first maps (`steep`: the
+    /// second) from the surface point `ps` along the refracted `rt`.
+    fn intersect(&self, ps: Vec3, rt: Vec3, steep: bool) -> Intersection {
+        let u = self.uniforms;
         let bottom = ps.y - u.scene_lowest_y;
         let mut dist = if bottom > 1e-3 { bottom / (-rt.y).max(1e-3) } else { 1.0 };
-        if let Some(texel) = self.light_texel(ps) {
-            let below = self.receiver(texel);
+        if let Some(texel) = self.light_texel(ps, steep) {
+            let below = self.receiver(texel, steep);
             let depth = ps.y - below[1];
             if below[3] > 0.0 {
                 dist = if depth > 1e-3 {
@@ -633,10 +701,10 @@ impl PhotonCaster<'_> {
         }
         let mut previous: Option<(f32, f32)> = None;
         for _ in 0..u.iterations as i32 {
-            let r = self.light_texel(ps + dist * rt).map(|t| self.receiver(t)).unwrap_or([0.0; 4]);
+            let r = self.light_texel(ps + dist * rt, steep).map(|t| self.receiver(t, steep)).unwrap_or([0.0; 4]);
             if r[3] <= 0.0 {
                 // Left the map or its receivers: end at the last estimate that had one.
-                let (d0, _) = previous?;
+                let Some((d0, _)) = previous else { return Intersection::LeavesMap };
                 dist = d0;
                 break;
             }
@@ -654,43 +722,35 @@ impl PhotonCaster<'_> {
             dist = next.max(1e-3);
         }
         let hit = ps + dist * rt;
-        let texel = self.light_texel(hit)?;
-        let r = self.receiver(texel);
+        let Some(texel) = self.light_texel(hit, steep) else { return Intersection::LeavesMap };
+        let r = self.receiver(texel, steep);
         if r[3] <= 0.0 {
-            return None;
+            return Intersection::LeavesMap;
         }
         let point = u.light_is_point > 0.0;
         let light_pos = Vec3::from_array(u.light_position);
         let texel_size = 2.0 * u.light_half_extent[0].max(u.light_half_extent[1]) / u.light_map_size
             * if point { (hit - light_pos).length() } else { 1.0 }
-            * if !point && hit.y < u.water_level { u.refracted_texel_stretch } else { 1.0 };
-        let normal = self.light_normals.at(texel.0, texel.1);
-        let normal = Vec3::new(normal[0], normal[1], normal[2]);
-        let light_to_hit = self.light_map_direction(hit);
+            * if !point && hit.y < u.water_level {
+                if steep {
+                    u.steep_texel_stretch
+                } else {
+                    u.refracted_texel_stretch
+                }
+            } else {
+                1.0
+            };
+        let normal = self.normal(texel, steep);
+        let light_to_hit = self.light_map_direction(hit, steep);
         let receiver = Vec3::new(r[0], r[1], r[2]);
         let (hit, dist) = onto_receiver_plane(ps, rt, hit, dist, receiver, normal, |h, t| {
             converged(h, receiver, normal, light_to_hit, t, texel_size)
         });
-        if !converged(hit, receiver, normal, light_to_hit, dist, texel_size) {
-            return None;
+        if converged(hit, receiver, normal, light_to_hit, dist, texel_size) {
+            Intersection::Landed(hit, dist)
+        } else {
+            Intersection::NotConverged
         }
-        if hit.y > w.level + w.amplitude.abs() + w.noise_amplitude.abs() {
-            return None;
-        }
-        let n2 = photons_per_axis.x * photons_per_axis.y / (window_size.x * window_size.y);
-        let mut flux = u.light_strength * 4.0 * u.light_half_extent[0] * u.light_half_extent[1] / n2 * cell_scale;
-        if point {
-            let c = d.dot(Vec3::from_array(u.light_axis)).max(0.0);
-            flux *= c * c * c;
-        }
-        let photon = Photon {
-            surface: ps,
-            direction: rt,
-            hit,
-            flux: flux * fresnel_transmittance(cos_i, w.ior),
-            travelled: dist,
-        };
-        (hit.is_finite() && photon.flux.is_finite()).then_some(photon)
     }
 }
 

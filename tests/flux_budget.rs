@@ -70,11 +70,13 @@ fn every_photon_and_watt_is_accounted_for() {
         assert!(budget.landed.watts > 0.5 * power, "{name}: only {:.1} % lands", 100.0 * budget.landed.watts / power);
         // The light's maps see underwater receivers along the refracted light
         // (shader_math::light_map_point), so the receivers that refracted photons reach are in
-        // them. Measured: 1.2 % (tank), 0.5 % (port), 0.8 % (storage) of the power does not
-        // converge; mapped along the straight light ray, 5.6 %, 1.3 % and 4.7 % (at the
-        // shipped 1024² maps), most of it beside shadow edges and on walls.
+        // them, and the photons the waves bend behind an occluder in them search the second,
+        // steeper maps (frame::uniforms::steep_light_axis). Measured: 0.37 % (tank), 0.05 %
+        // (port), 0.40 % (storage) of the power does not converge; with the first maps alone
+        // 1.2 %, 0.5 % and 0.8 %; mapped along the straight light ray, 5.6 %, 1.3 % and 4.7 %
+        // (at the shipped 1024² maps), most of it beside shadow edges and on walls.
         let lost = budget.dropped[DropReason::NotConverged as usize - 1].watts / power;
-        assert!(lost < 0.02, "{name}: {:.1} % of the grid's power does not converge", 100.0 * lost);
+        assert!(lost < 0.006, "{name}: {:.2} % of the grid's power does not converge", 100.0 * lost);
         // Every landed photon is seen, hidden or out of view; and the scenes spread their
         // photons for the view (caustic_photon_density = "view"), so the photons the camera
         // sees are a larger share of the landed photons than their flux is of the landed flux

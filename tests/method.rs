@@ -398,8 +398,16 @@ fn compare_photons_on_grid(model: WaterModel, density: underlight::scene::Photon
         warp.apply_to_caustics(&mut uniforms);
     }
     let noise = NoiseTexture::generate();
-    let caster =
-        PhotonCaster { uniforms: &uniforms, noise: &noise, light_map: &light_map, light_normals: &light_normals };
+    // The pool's tilted sun bends the maps, so the frame has the second, steeper ones too.
+    let steep_positions = images.steep_light_positions.expect("steep light map");
+    let steep_normals = images.steep_light_normals.expect("steep light normal map");
+    let caster = PhotonCaster {
+        uniforms: &uniforms,
+        noise: &noise,
+        light_map: &light_map,
+        light_normals: &light_normals,
+        steep_maps: Some((&steep_positions, &steep_normals)),
+    };
     let (grid, sub) = (scene.effects.caustic_grid, scene.effects.caustic_subdivision);
     // The coarse grid: N/k columns, as many rows as N² cells fill (`caustic_grid_cell` in
     // caustic_splat.glsl); the survey leaves the paper's square.

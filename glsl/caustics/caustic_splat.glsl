@@ -44,8 +44,9 @@ bool lit_side_faces_camera(vec3 hit, vec3 n, vec3 light_dir) {
 // A square splat of `size` whole pixels centred on receiver point `hit`, spreading the
 // transmitted flux `flux` (W per channel, attenuation applied) over the receiver area its
 // pixels cover; false when it cannot touch the target. Shared by the paper's points and by
-// the triangle estimator's fallbacks (caustics_triangles.geom).
-bool caustic_square(vec3 hit, vec3 flux, float size, out CausticSplat s) {
+// the triangle estimator's fallbacks (caustics_triangles.geom). `steep`: the photon was found
+// in the second light maps, which hold its receiver's normal.
+bool caustic_square(vec3 hit, bool steep, vec3 flux, float size, out CausticSplat s) {
     s.clip = frame.camera_view_proj * vec4(hit, 1.0);
     s.size = size;
     s.irradiance = vec4(0.0);
@@ -59,7 +60,7 @@ bool caustic_square(vec3 hit, vec3 flux, float size, out CausticSplat s) {
     float d_view = length(to_hit);
     ivec2 texel;
     vec3 n = vec3(0.0, 1.0, 0.0);
-    if (light_texel(hit, texel)) n = normalize(texelFetch(light_normal, texel, 0).xyz + 1e-6);
+    if (light_texel(hit, steep, texel)) n = normalize(map_normal(texel, steep) + 1e-6);
     float cos_view = abs(dot(n, to_hit / d_view));
     float cos_axis = s.clip.w / d_view;
     // The splat spreads the photon's flux over size² pixels, each covering pixel_world_area
@@ -82,10 +83,10 @@ bool caustic_splat(Photon ph, out CausticSplat s) {
     // floor² or ceil² pixels depending on its sub-pixel position).
     size = clamp(round(size), 1.0, floor(frame.device_max_point_size));
     ivec2 texel;
-    if (light_texel(ph.hit, texel)) {
-        vec3 n = texelFetch(light_normal, texel, 0).xyz;
+    if (light_texel(ph.hit, ph.steep_map, texel)) {
+        vec3 n = map_normal(texel, ph.steep_map);
         if (dot(n, n) > 0.25 && !lit_side_faces_camera(ph.hit, n, ph.direction)) { s.irradiance = vec4(0.0); return false; }
     }
-    return caustic_square(ph.hit, ph.flux * water_transmittance(ph.travelled), size, s);
+    return caustic_square(ph.hit, ph.steep_map, ph.flux * water_transmittance(ph.travelled), size, s);
 }
 #endif

@@ -84,6 +84,7 @@ vec3 surface[MAX_PHOTONS];   // where its ray entered the water, and its refract
 vec3 direction[MAX_PHOTONS]; // zero where it never refracted (footprint_edge)
 float cell_scale[MAX_PHOTONS]; // its grid cell's area over the even grid's (photon_density_warp)
 bool landed[MAX_PHOTONS];
+bool steep[MAX_PHOTONS];     // found in the second light maps (Photon::steep_map)
 bool seen[MAX_PHOTONS];      // landed on the side of its receiver the camera sees (lit_side_faces_camera)
 vec3 returned[MAX_PHOTONS];  // flux handed back by triangles that span a discontinuity
 int returned_quadrants[MAX_PHOTONS]; // which quarters of its cell those triangles lie in (QUARTER_*)
@@ -215,7 +216,7 @@ float cell_pixels(int k, vec2 photons_per_axis) {
     float cell = 4.0 * frame.light_half_extent.x * frame.light_half_extent.y
                * frame.photon_window_size.x * frame.photon_window_size.y
                / (photons_per_axis.x * photons_per_axis.y) * cell_scale[k];
-    vec3 beam = light_map_direction(hit[k]);
+    vec3 beam = light_map_direction(hit[k], steep[k]);
     float stretch = hit[k].y < frame.water_level ? frame.refracted_texel_stretch : 1.0;
     float on_receiver = cell * stretch / max(abs(dot(normal[k], beam)), 0.1);
     vec3 to_hit = hit[k] - frame.camera_position;
@@ -261,7 +262,7 @@ void emit_triangle(int a, int b, int c) {
     if (pixels < SLIVER_PIXELS || !(area > 1e-12)) {
         CausticSplat s;
         vec3 share = (flux[a] + flux[b] + flux[c]) / 6.0;
-        if (caustic_square((hit[a] + hit[b] + hit[c]) / 3.0, share, 1.0, s)) {
+        if (caustic_square((hit[a] + hit[b] + hit[c]) / 3.0, steep[a], share, 1.0, s)) {
             // The receiver area one pixel covers, exactly: the triangle's own world area
             // over its pixels. (caustic_square's estimate bounds cos θ_view by 0.2, which
             // overstated the port's distant, grazing seabed: flux +5.6 % against +2.4 %.) A
@@ -334,7 +335,7 @@ bool emit_footprint(int k, vec3 du, vec3 dv) {
     if (pixels < SLIVER_PIXELS) {
         CausticSplat s;
         vec3 centre = hit[k] + 0.5 * (lo.x + hi.x) * edges[0] + 0.5 * (lo.y + hi.y) * edges[1];
-        if (!caustic_square(centre, returned[k], 1.0, s)) return true; // off the target: nothing to draw
+        if (!caustic_square(centre, steep[k], returned[k], 1.0, s)) return true; // off the target: nothing to draw
         s.irradiance.rgb = irradiance * pixels;
         s.size = 2.0;
         emit_square(s, sliver_footprint_code(target_pixel(s.clip), sqrt(pixels)));
@@ -385,8 +386,9 @@ void main() {
             direction[k] = ph.direction;
             flux[k] = landed[k] ? ph.flux * water_transmittance(ph.travelled) : vec3(0.0);
             ivec2 texel;
-            normal[k] = landed[k] && light_texel(ph.hit, texel)
-                ? normalize(texelFetch(light_normal, texel, 0).xyz + 1e-6) : vec3(0.0);
+            steep[k] = ph.steep_map;
+            normal[k] = landed[k] && light_texel(ph.hit, ph.steep_map, texel)
+                ? normalize(map_normal(texel, ph.steep_map) + 1e-6) : vec3(0.0);
             clip[k] = frame.camera_view_proj * vec4(ph.hit, 1.0);
             seen[k] = landed[k] && lit_side_faces_camera(ph.hit, normal[k], ph.direction);
             returned[k] = vec3(0.0);
@@ -443,7 +445,7 @@ void main() {
         else if (frame.light_is_point == 0.0) size = min(size, sqrt(cell_pixels(k, photons_per_axis)));
         CausticSplat s;
         size = clamp(round(size), 1.0, floor(frame.device_max_point_size));
-        if (caustic_square(hit[k], returned[k], size, s)) {
+        if (caustic_square(hit[k], steep[k], returned[k], size, s)) {
             // The receiver area per pixel from the drawn triangles around the photon, where
             // it has any (see emit_triangle).
             if (around_pixels[k] > 1e-4 && around_pixel_area[k] > 1e-12)

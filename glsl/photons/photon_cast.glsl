@@ -10,6 +10,10 @@
 #include "noise_texture.glsl"
 layout(set = 0, binding = BINDING_LIGHT_POSITION) uniform sampler2D light_position;
 layout(set = 0, binding = BINDING_LIGHT_NORMAL) uniform sampler2D light_normal;
+// The second maps, bent more steeply (frame::uniforms::steep_light_axis): searched by the
+// photons whose iteration does not converge in the first.
+layout(set = 0, binding = BINDING_LIGHT_POSITION_STEEP) uniform sampler2D light_position_steep;
+layout(set = 0, binding = BINDING_LIGHT_NORMAL_STEEP) uniform sampler2D light_normal_steep;
 
 struct Photon {
     vec3 surface;     // p_s: where it enters the water
@@ -18,6 +22,7 @@ struct Photon {
     float flux;       // W carried after the surface (Fresnel transmittance applied)
     float travelled;  // |p_i − p_s|, m
     float cell_scale; // its grid cell's area over the even grid's (photon_density_warp; 1 unwarped)
+    bool steep_map;   // its hit was found in the second, steeper maps (its receiver's normal is there)
 };
 
 // The photon grid's warp (frame::photon_density; Rust twin shader_math::photon_density_warp):
@@ -68,15 +73,28 @@ vec2 photon_density_warp(vec2 g, vec2 half_cell, out float cell_scale) {
     return vec2(density_knot_lerp_u(g.x, v), v);
 }
 
-// Texel of the light maps under world point p; false when p projects outside the map or
-// behind the light.
-bool light_texel(vec3 p, out ivec2 texel) {
-    vec4 c = frame.light_view_proj * vec4(light_map_point(p), 1.0);
+// Texel of the first light maps (`steep`: the second) under world point p; false when p
+// projects outside the map or behind the light.
+bool light_texel(vec3 p, bool steep, out ivec2 texel) {
+    vec4 c = frame.light_view_proj * vec4(light_map_point(p, steep), 1.0);
     if (c.w <= 0.0) return false;
     vec2 uv = c.xy / c.w * 0.5 + 0.5;
     if (any(lessThan(uv, vec2(0.0))) || any(greaterThanEqual(uv, vec2(1.0)))) return false;
     texel = ivec2(uv * frame.light_map_size);
     return true;
+}
+
+bool light_texel(vec3 p, out ivec2 texel) {
+    return light_texel(p, false, texel);
+}
+
+// The receiver (xyz, w > 0 where one) and its normal at a texel of either pair of maps.
+vec4 map_receiver(ivec2 texel, bool steep) {
+    return steep ? texelFetch(light_position_steep, texel, 0) : texelFetch(light_position, texel, 0);
+}
+
+vec3 map_normal(ivec2 texel, bool steep) {
+    return (steep ? texelFetch(light_normal_steep, texel, 0) : texelFetch(light_normal, texel, 0)).xyz;
 }
 
 // Converged when the estimate lies on the receiver the map stores at its texel: within a
@@ -86,10 +104,11 @@ bool light_texel(vec3 p, out ivec2 texel) {
 // texel's footprint is there: at a 10° sun a floor texel is 5.8 texels long, and the
 // iteration can only place the hit somewhere inside it. (Measuring the plain distance to
 // the stored point rejected most correct hits below a 15° sun.)
-bool converged(vec3 hit, vec3 receiver, vec3 receiver_normal, vec3 light_to_hit, float dist) {
+bool converged(vec3 hit, vec3 receiver, vec3 receiver_normal, vec3 light_to_hit, float dist, bool steep) {
+    float stretch = steep ? frame.steep_texel_stretch : frame.refracted_texel_stretch;
     float texel_size = 2.0 * max(frame.light_half_extent.x, frame.light_half_extent.y) / frame.light_map_size
                      * (frame.light_is_point > 0.0 ? length(hit - frame.light_position) : 1.0)
-                     * (frame.light_is_point == 0.0 && hit.y < frame.water_level ? frame.refracted_texel_stretch : 1.0);
+                     * (frame.light_is_point == 0.0 && hit.y < frame.water_level ? stretch : 1.0);
     float across_allowed = max(3.0 * texel_size, 0.05 * dist);
     vec3 off = hit - receiver;
     float len_n = length(receiver_normal);
@@ -106,7 +125,7 @@ bool converged(vec3 hit, vec3 receiver, vec3 receiver_normal, vec3 light_to_hit,
 // plane of the receiver stored at its texel (point `receiver`, normal `receiver_normal`)
 // where that point still lies on the same receiver; leaves it where the plane is missing or
 // the ray runs along it.
-void onto_receiver_plane(vec3 ps, vec3 rt, vec3 receiver, vec3 receiver_normal, vec3 light_to_hit,
+void onto_receiver_plane(vec3 ps, vec3 rt, vec3 receiver, vec3 receiver_normal, vec3 light_to_hit, bool steep,
                          inout vec3 hit, inout float dist) {
     float len_n = length(receiver_normal);
     if (!(len_n > 0.5)) return;
@@ -115,7 +134,7 @@ void onto_receiver_plane(vec3 ps, vec3 rt, vec3 receiver, vec3 receiver_normal, 
     if (abs(denom) <= 1e-3) return;
     float t = dot(receiver - ps, n) / denom;
     vec3 on_plane = ps + t * rt;
-    if (t > 0.0 && converged(on_plane, receiver, receiver_normal, light_to_hit, t)) {
+    if (t > 0.0 && converged(on_plane, receiver, receiver_normal, light_to_hit, t, steep)) {
         hit = on_plane;
         dist = t;
     }
@@ -139,6 +158,77 @@ const int PHOTON_ABOVE_WATER = 8;
 const int PHOTON_NOT_FINITE = 9;
 int photon_fate = PHOTON_LANDED; // set by every cast_photon
 
+// Where the refracted ray from ps along rt meets the receivers the first light maps hold
+// (`steep`: the second maps): PHOTON_LANDED with the hit and its distance, PHOTON_LEAVES_MAP,
+// or PHOTON_NOT_CONVERGED with the last estimate.
+//
+// Shah's iteration: guess d, project p_s + d·r_t into the light's map, and take the stored
+// receiver's distance F(d) from p_s as the next guess. The first guess assumes the
+// receiver lies as deep below p_s as the one straight along the unrefracted ray (Shah
+// takes that one's distance, which at a low sun is several times too far, and its
+// map position may hold nothing). Shah's update d ← F(d) is a fixed-point iteration;
+// it diverges where |F'| > 1, which for a horizontal receiver happens once the sun is
+// below about 18° (F' = 1 − cos θt·cos(θi − θt)/sin e). From the second step on, the
+// update is therefore a secant step on the same residual g(d) = F(d) − d, which uses the
+// same one map fetch per step and converges there too. Where g is constant across a map
+// texel the secant step equals Shah's.
+// Where the map holds nothing straight along the light ray (at a low sun that ray leaves
+// the receivers long before the refracted one would), the guess is the scene's lowest
+// point: exact for a flat floor, and the secant steps correct it for anything above.
+int intersect_receivers(vec3 ps, vec3 rt, bool steep, out vec3 hit, out float dist) {
+    float bottom = ps.y - frame.scene_lowest_y;
+    dist = bottom > 1e-3 ? bottom / max(-rt.y, 1e-3) : 1.0;
+    hit = ps;
+    ivec2 texel;
+    if (light_texel(ps, steep, texel)) {
+        vec4 below = map_receiver(texel, steep);
+        float depth = ps.y - below.y;
+        if (below.w > 0.0) dist = depth > 1e-3 ? depth / max(-rt.y, 1e-3) : max(length(below.xyz - ps), 1e-3);
+    }
+    float prev_dist = 0.0, prev_g = 0.0;
+    bool have_prev = false;
+    int iterations = int(frame.iterations);
+    for (int i = 0; i < iterations; ++i) {
+        // A step that leaves the map or its receivers ends the iteration at the last estimate
+        // that had one (the convergence test below judges it): at a grazing sun a texel
+        // stretches over a third of a metre of floor, and a step from an exact first guess
+        // towards the texel's centre can leave the receivers. With no estimate yet, the
+        // photon hits nothing the map knows of and is dropped.
+        bool inside = light_texel(ps + dist * rt, steep, texel);
+        vec4 r = inside ? map_receiver(texel, steep) : vec4(0.0);
+        if (r.w <= 0.0) {
+            if (!have_prev) return PHOTON_LEAVES_MAP;
+            dist = prev_dist;
+            break;
+        }
+        float g = length(r.xyz - ps) - dist;
+        // At the fixed point already (within 10 µm per metre): a further step would move the
+        // estimate by g and fetch the same texel again. Stopping saves the remaining fetches
+        // wherever the whole SIMD group has converged.
+        if (abs(g) <= ITERATION_RESIDUAL * max(dist, 1.0)) break;
+        float next = dist + g;
+        if (have_prev && abs(g - prev_g) > 1e-6 * max(dist, 1.0)) {
+            next = dist - g * (dist - prev_dist) / (g - prev_g);
+        }
+        prev_dist = dist; prev_g = g; have_prev = true;
+        dist = max(next, 1e-3);
+    }
+    hit = ps + dist * rt;
+    if (!light_texel(hit, steep, texel)) return PHOTON_LEAVES_MAP;
+    vec4 r = map_receiver(texel, steep);
+    if (r.w <= 0.0) return PHOTON_LEAVES_MAP;
+    vec3 rn = map_normal(texel, steep);
+    vec3 to_hit = light_map_direction(hit, steep);
+    // The iteration ends on the right texel but anywhere inside it: the stored receiver is the
+    // one at the texel's centre, and the estimate's error is up to a texel, several mm on the
+    // built-in scenes' floors against 13 mm between photons. The caustic estimators measure
+    // areas between neighbouring hits, so that error was noise in the irradiance (tank
+    // triangles: relative RMSE 0.66 from the texel, 0.61 on the plane). The receiver's plane at the texel
+    // (its stored point and normal) gives the exact hit on planar receivers.
+    onto_receiver_plane(ps, rt, r.xyz, rn, to_hit, steep, hit, dist);
+    return converged(hit, r.xyz, rn, to_hit, dist, steep) ? PHOTON_LANDED : PHOTON_NOT_CONVERGED;
+}
+
 // Casts the photon at light-space position uv ∈ [0,1]² of a grid with photons_per_axis.x ×
 // photons_per_axis.y photons (square but for the caustic triangles' grid, whose aspect
 // follows the view: caustics_triangles.geom). Returns false for photons that never enter the
@@ -147,6 +237,7 @@ int photon_fate = PHOTON_LANDED; // set by every cast_photon
 bool cast_photon(vec2 uv, vec2 photons_per_axis, out Photon ph) {
     ph.surface = vec3(0.0); ph.direction = vec3(0.0); ph.hit = vec3(0.0); ph.flux = 0.0; ph.travelled = 0.0;
     ph.cell_scale = 1.0;
+    ph.steep_map = false;
     photon_fate = PHOTON_LANDED;
     // The grid covers the water's footprint in the light's window, not the whole window.
     // Shifted by this frame's sub-cell offset (effects.photon_jitter; zero without it), and
@@ -200,68 +291,22 @@ bool cast_photon(vec2 uv, vec2 photons_per_axis, out Photon ph) {
     ph.surface = ps;
     ph.direction = rt;
 
-    // Shah's iteration: guess d, project p_s + d·r_t into the light's map, and take the stored
-    // receiver's distance F(d) from p_s as the next guess. The first guess assumes the
-    // receiver lies as deep below p_s as the one straight along the unrefracted ray (Shah
-    // takes that one's distance, which at a low sun is several times too far, and its
-    // map position may hold nothing). Shah's update d ← F(d) is a fixed-point iteration;
-    // it diverges where |F'| > 1, which for a horizontal receiver happens once the sun is
-    // below about 18° (F' = 1 − cos θt·cos(θi − θt)/sin e). From the second step on, the
-    // update is therefore a secant step on the same residual g(d) = F(d) − d, which uses the
-    // same one map fetch per step and converges there too. Where g is constant across a map
-    // texel the secant step equals Shah's.
-    // Where the map holds nothing straight along the light ray (at a low sun that ray leaves
-    // the receivers long before the refracted one would), the guess is the scene's lowest
-    // point: exact for a flat floor, and the secant steps correct it for anything above.
-    float bottom = ps.y - frame.scene_lowest_y;
-    float dist = bottom > 1e-3 ? bottom / max(-rt.y, 1e-3) : 1.0;
-    if (light_texel(ps, texel)) {
-        vec4 below = texelFetch(light_position, texel, 0);
-        float depth = ps.y - below.y;
-        if (below.w > 0.0) dist = depth > 1e-3 ? depth / max(-rt.y, 1e-3) : max(length(below.xyz - ps), 1e-3);
-    }
-    float prev_dist = 0.0, prev_g = 0.0;
-    bool have_prev = false;
-    int iterations = int(frame.iterations);
-    for (int i = 0; i < iterations; ++i) {
-        // A step that leaves the map or its receivers ends the iteration at the last estimate
-        // that had one (the convergence test below judges it): at a grazing sun a texel
-        // stretches over a third of a metre of floor, and a step from an exact first guess
-        // towards the texel's centre can leave the receivers. With no estimate yet, the
-        // photon hits nothing the map knows of and is dropped.
-        bool inside = light_texel(ps + dist * rt, texel);
-        vec4 r = inside ? texelFetch(light_position, texel, 0) : vec4(0.0);
-        if (r.w <= 0.0) {
-            if (!have_prev) { photon_fate = PHOTON_LEAVES_MAP; return false; }
-            dist = prev_dist;
-            break;
+    // The first maps, then, for a photon they cannot place, the second (steeper) ones.
+    vec3 hit;
+    float dist;
+    int fate = intersect_receivers(ps, rt, false, hit, dist);
+    if (fate != PHOTON_LANDED && frame.steep_light_axis.y < -1e-3) {
+        vec3 steep_hit;
+        float steep_dist;
+        if (intersect_receivers(ps, rt, true, steep_hit, steep_dist) == PHOTON_LANDED) {
+            fate = PHOTON_LANDED;
+            hit = steep_hit;
+            dist = steep_dist;
+            ph.steep_map = true;
         }
-        float g = length(r.xyz - ps) - dist;
-        // At the fixed point already (within 10 µm per metre): a further step would move the
-        // estimate by g and fetch the same texel again. Stopping saves the remaining fetches
-        // wherever the whole SIMD group has converged.
-        if (abs(g) <= ITERATION_RESIDUAL * max(dist, 1.0)) break;
-        float next = dist + g;
-        if (have_prev && abs(g - prev_g) > 1e-6 * max(dist, 1.0)) {
-            next = dist - g * (dist - prev_dist) / (g - prev_g);
-        }
-        prev_dist = dist; prev_g = g; have_prev = true;
-        dist = max(next, 1e-3);
     }
-    vec3 hit = ps + dist * rt;
-    if (!light_texel(hit, texel)) { photon_fate = PHOTON_LEAVES_MAP; return false; }
-    vec4 r = texelFetch(light_position, texel, 0);
-    if (r.w <= 0.0) { photon_fate = PHOTON_LEAVES_MAP; return false; }
-    vec3 rn = texelFetch(light_normal, texel, 0).xyz;
-    vec3 to_hit = light_map_direction(hit);
-    // The iteration ends on the right texel but anywhere inside it: the stored receiver is the
-    // one at the texel's centre, and the estimate's error is up to a texel, several mm on the
-    // built-in scenes' floors against 13 mm between photons. The caustic estimators measure
-    // areas between neighbouring hits, so that error was noise in the irradiance (tank
-    // triangles: relative RMSE 0.66 from the texel, 0.61 on the plane). The receiver's plane at the texel
-    // (its stored point and normal) gives the exact hit on planar receivers.
-    onto_receiver_plane(ps, rt, r.xyz, rn, to_hit, hit, dist);
-    if (!converged(hit, r.xyz, rn, to_hit, dist)) {
+    if (fate == PHOTON_LEAVES_MAP) { photon_fate = fate; return false; }
+    if (fate == PHOTON_NOT_CONVERGED) {
         photon_fate = PHOTON_NOT_CONVERGED;
 #ifndef PHOTON_BEAMS
         return false;

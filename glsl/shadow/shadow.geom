@@ -5,8 +5,11 @@
 // it, so a triangle that crosses the level is cut there first, into the triangle on one side
 // and the quad (two triangles) on the other; each piece then projects exactly. (Drawn
 // whole, a wall from the floor to above the water lay up to a few centimetres off in the
-// map, and the photons that met it did not converge.)
+// map, and the photons that met it did not converge.) The pass renders two pairs of maps,
+// the second bent along a steeper direction (`steep`; frame::uniforms::steep_light_axis).
 #include "frame.glsl"
+
+layout(push_constant) uniform ShadowPush { uint steep; } pc;
 
 layout(triangles) in;
 // Three triangles at most (the cut-off corner and the quad's two), each its own strip.
@@ -20,7 +23,7 @@ layout(location = 1) out vec3 g_normal;
 void emit(vec3 world, vec3 normal) {
     g_world = world;
     g_normal = normal;
-    gl_Position = frame.light_view_proj * vec4(light_map_point(world), 1.0);
+    gl_Position = frame.light_view_proj * vec4(light_map_point(world, pc.steep != 0u), 1.0);
     EmitVertex();
 }
 
@@ -34,7 +37,7 @@ void emit_triangle(vec3 p0, vec3 n0, vec3 p1, vec3 n1, vec3 p2, vec3 n2) {
 void main() {
     float level = frame.water_level;
     float s[3] = float[3](v_world[0].y - level, v_world[1].y - level, v_world[2].y - level);
-    bool bends = frame.refracted_light_axis.y < -1e-3;
+    bool bends = light_map_bend(pc.steep != 0u).y < -1e-3;
     // The corner alone on its side of the level, if the triangle crosses it.
     int lone = -1;
     for (int i = 0; i < 3; ++i) {

@@ -72,6 +72,8 @@ layout(set = 0, binding = BINDING_UNIFORMS, std430) readonly buffer FrameUniform
     vec2 photon_jitter;            // this frame's photon-grid offset, in photon cells (effects.photon_jitter)
     float godray_density_warped;   // 1: the godray beams follow godray_density_* (effects.godray_photon_density = "view")
     float caustic_grid_aspect;     // k: the caustic triangles' coarse grid is N/k columns × N·k rows (frame::photon_density)
+    vec3 steep_light_axis;         // the second light maps' bend under the water, steeper (0: no second maps)
+    float steep_texel_stretch;     // refracted_texel_stretch for the second maps
     // The caustic photon grid's warp (frame::photon_density, photon_cast.glsl's
     // photon_density_warp): inverse cumulative densities, PHOTON_DENSITY_KNOTS knots each. Rows:
     // the window's v at grid v = k / (knots − 1). Columns: one row of knots per band of the
@@ -90,18 +92,36 @@ const int PHOTON_DENSITY_KNOTS = 32;
 // light's own, so that an underwater receiver lands in the texel of the photons that reach it
 // (through flat water), not in that of the straight light ray. The Rust twin is
 // shader_math::light_map_point.
-vec3 light_map_point(vec3 p) {
-    vec3 r = frame.refracted_light_axis;
+vec3 light_map_point_along(vec3 p, vec3 r) {
     if (!(r.y < -1e-3)) return p;
     float along = max(frame.water_level - p.y, 0.0) / -r.y;
     return p + along * (frame.light_axis - r);
 }
 
+// The underwater direction the first maps (false) or the second, steeper ones (true) bend
+// along (frame::uniforms::steep_light_axis says why there are two).
+vec3 light_map_bend(bool steep) {
+    return steep ? frame.steep_light_axis : frame.refracted_light_axis;
+}
+
+vec3 light_map_point(vec3 p, bool steep) {
+    return light_map_point_along(p, light_map_bend(steep));
+}
+
+vec3 light_map_point(vec3 p) {
+    return light_map_point(p, false);
+}
+
 // The direction along which the light's maps see point p (unit): from a point light; along a
-// directional light above the water and its refracted direction below it.
-vec3 light_map_direction(vec3 p) {
+// directional light above the water and the maps' bend below it.
+vec3 light_map_direction(vec3 p, bool steep) {
     if (frame.light_is_point > 0.0) return normalize(p - frame.light_position);
-    return frame.refracted_light_axis.y < -1e-3 && p.y < frame.water_level ? frame.refracted_light_axis : frame.light_axis;
+    vec3 r = light_map_bend(steep);
+    return r.y < -1e-3 && p.y < frame.water_level ? r : frame.light_axis;
+}
+
+vec3 light_map_direction(vec3 p) {
+    return light_map_direction(p, false);
 }
 
 WaterParams frame_water() {

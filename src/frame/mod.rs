@@ -433,7 +433,14 @@ impl Frame {
         )?;
         let nearest = Sampler::new(device, "nearest", vk::Filter::NEAREST)?;
         let linear = Sampler::new(device, "linear", vk::Filter::LINEAR)?;
-        let shadow = if plan.runs(PassId::Shadow) { Some(ShadowPass::new(device, extents.light_map)?) } else { None };
+        // The second, steeper light maps where the maps bend (a directional light entering
+        // the water from above): uniforms::steep_light_axis.
+        let steep_maps = uniforms::steep_light_axis(scene) != glam::Vec3::ZERO;
+        let shadow = if plan.runs(PassId::Shadow) {
+            Some(ShadowPass::new(device, extents.light_map, steep_maps)?)
+        } else {
+            None
+        };
         let (refraction, reflection) = if plan.runs(PassId::Refraction) {
             (Some(RefractionPass::new(device, output)?), Some(ReflectionPass::new(device, output)?))
         } else {
@@ -537,6 +544,16 @@ impl Frame {
                 }
                 bindings::LIGHT_NORMAL => {
                     tex(&shadow.as_ref().expect("plan: photon passes need the shadow pass").normal, &nearest)
+                }
+                // Where the maps do not bend there are no second maps, and the shaders never
+                // search them (FrameUniforms::steep_light_axis is zero): the first stand in.
+                bindings::LIGHT_POSITION_STEEP => {
+                    let shadow = shadow.as_ref().expect("plan: photon passes need the shadow pass");
+                    tex(shadow.steep.as_ref().map_or(&shadow.position, |s| &s.position), &nearest)
+                }
+                bindings::LIGHT_NORMAL_STEEP => {
+                    let shadow = shadow.as_ref().expect("plan: photon passes need the shadow pass");
+                    tex(shadow.steep.as_ref().map_or(&shadow.normal, |s| &s.normal), &nearest)
                 }
                 // Photon passes test against the view the camera sees them in (photon_set_index).
                 bindings::SCENE_DEPTH if through_surface && refraction.is_some() => {

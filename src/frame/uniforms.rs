@@ -156,11 +156,13 @@ pub fn light_frame(scene: &Scene, bounds: (Vec3, Vec3), aspect: f32) -> LightFra
             // Refraction bends photons sideways; a margin keeps receivers near the edge lit.
             let margin = 0.1 * (max - min).truncate().max_element() + 0.25;
             // The depth range holds the scene's corners as the maps place them: below the
-            // water they sit farther along the bent path (light_map_point).
-            let refracted = refracted_light_axis(scene);
+            // water they sit farther along the bent path (light_map_point), in either pair of
+            // maps.
+            let (refracted, steep) = (refracted_light_axis(scene), steep_light_axis(scene));
             let (mut zmin, mut zmax) = (f32::INFINITY, f32::NEG_INFINITY);
             for p in &scene_corners {
-                for q in [*p, crate::shader_math::light_map_point(*p, w.level, dir, refracted)] {
+                let bent = |r| crate::shader_math::light_map_point(*p, w.level, dir, r);
+                for q in [*p, bent(refracted), bent(steep)] {
                     let q = view.transform_point3(q);
                     zmin = zmin.min(-q.z);
                     zmax = zmax.max(-q.z);
@@ -245,6 +247,31 @@ pub fn refracted_light_axis(scene: &Scene) -> Vec3 {
     }
 }
 
+/// The second light maps' bend: `refracted_light_axis` with its horizontal part scaled by
+/// `STEEP_MAP_HORIZONTAL`, steeper than flat water's; zero where the maps do not bend.
+///
+/// Why two maps: the waves bend some photons more steeply than flat water, and beside the
+/// lee side of a wall or a post the floor those photons reach lies behind the occluder in the
+/// first maps: their iteration cannot converge, and a band of light beside the shadow (the
+/// tank's west wall, up to 1.7 % of the frame's flux) was missing. One map bent more steeply
+/// sees past that edge but hides the floor beside a shadow's other edge (the port's seabed),
+/// so the first maps stay along flat water and only the photons that do not converge in them
+/// search these (`cast_photon`, photon_cast.glsl; docs/accuracy.md, "Light maps along a
+/// steeper direction").
+pub fn steep_light_axis(scene: &Scene) -> Vec3 {
+    let r = refracted_light_axis(scene);
+    if r == Vec3::ZERO {
+        return Vec3::ZERO;
+    }
+    Vec3::new(r.x * STEEP_MAP_HORIZONTAL, r.y, r.z * STEEP_MAP_HORIZONTAL).normalize()
+}
+
+/// How much of flat water's horizontal travel the second maps' bend keeps. The waves of the
+/// built-in scenes tilt the refracted light by up to about 3°, which at the tank's sun is 0.7
+/// of its horizontal travel per metre of depth; measured as the only maps, 0.7 and 0.5 brought
+/// the tank's band back alike (docs/accuracy.md).
+pub const STEEP_MAP_HORIZONTAL: f32 = 0.7;
+
 /// How much wider a map texel's beam is under the water than above it (in the plane of
 /// incidence): max(1, |r_y| / |d_y|). 1 when the maps do not bend.
 fn refracted_texel_stretch(light_axis: Vec3, refracted: Vec3) -> f32 {
@@ -324,6 +351,7 @@ impl FrameUniforms {
         let m = &scene.medium;
         let photon_window = photon_window(scene, &light);
         let refracted = refracted_light_axis(scene);
+        let steep = steep_light_axis(scene);
         Self {
             camera_view_proj: (proj * view).to_cols_array_2d(),
             light_view_proj: light.view_proj.to_cols_array_2d(),
@@ -384,6 +412,8 @@ impl FrameUniforms {
             photon_jitter: if e.photon_jitter { photon_jitter(time) } else { [0.0; 2] },
             godray_density_warped: 0.0,
             caustic_grid_aspect: 1.0,
+            steep_light_axis: steep.to_array(),
+            steep_texel_stretch: refracted_texel_stretch(light.axis, steep),
             photon_density_rows: super::photon_density::PhotonDensity::EVEN.rows,
             photon_density_columns: super::photon_density::PhotonDensity::EVEN.columns_flat(),
             godray_density_rows: super::photon_density::PhotonDensity::EVEN.rows,

@@ -5,7 +5,9 @@
 //! mask the paper makes optional is derived from the position map instead (see photon_cast.glsl).
 //! Under a directional light the maps see underwater receivers along the light's refracted
 //! direction, where the photons travel (`shader_math::light_map_point`); a geometry shader
-//! cuts the triangles that cross the water level so that each piece projects exactly.
+//! cuts the triangles that cross the water level so that each piece projects exactly. There
+//! it also renders a second pair of maps bent more steeply (`steep`), which the photons
+//! search where the first cannot place them (`frame::uniforms::steep_light_axis`).
 
 use crate::error::Result;
 use crate::passes::mesh::{GpuMeshes, MESH_ATTRIBUTES};
@@ -30,9 +32,64 @@ pub struct ShadowPass {
     pub normal: Image,
     /// Only attached (depth testing); kept alive here for the framebuffer.
     _depth: Image,
+    /// The second maps, bent along `FrameUniforms::steep_light_axis`; None where the maps do
+    /// not bend (a point light), whose photons have nothing else to search.
+    pub steep: Option<SteepMaps>,
     /// This pass's descriptor sets (one per frame in flight), written by the frame.
     pub sets: DescriptorSets,
     device: Arc<Device>,
+}
+
+/// The second pair of light maps and their render pass (the first's formats, so the pass's
+/// one pipeline draws into either).
+pub struct SteepMaps {
+    render_pass: RenderPass,
+    pub position: Image,
+    pub normal: Image,
+    _depth: Image,
+}
+
+/// A pair of receiver maps (positions, normals) and the depth they are tested with, named
+/// `what` ("light", "steep light").
+fn map_images(device: &Arc<Device>, what: &str, size: u32) -> Result<[Image; 3]> {
+    let extent = vk::Extent2D { width: size, height: size };
+    let sampled =
+        vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC;
+    let position =
+        Image::new(device, &format!("{what} position map"), extent, vk::Format::R32G32B32A32_SFLOAT, sampled)?;
+    let normal = Image::new(device, &format!("{what} normal map"), extent, normal_format(device), sampled)?;
+    let depth = Image::new(
+        device,
+        &format!("{what} depth"),
+        extent,
+        vk::Format::D32_SFLOAT,
+        vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+    )?;
+    Ok([position, normal, depth])
+}
+
+/// The render pass that clears and fills one pair of maps, leaving them for the photon passes.
+fn map_render_pass(
+    device: &Arc<Device>,
+    name: &str,
+    position: &Image,
+    normal: &Image,
+    depth: &Image,
+) -> Result<RenderPass> {
+    let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+    RenderPass::new(
+        device,
+        name,
+        &[
+            Attachment { image: position, load: Load::Clear([0.0; 4]), final_layout: read },
+            Attachment { image: normal, load: Load::Clear([0.0; 4]), final_layout: read },
+        ],
+        Some(&Attachment {
+            image: depth,
+            load: Load::Clear([1.0; 4]),
+            final_layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+        }),
+    )
 }
 
 /// The light normal map's format: 8-bit signed normalised (4 MiB at 1024²), which the
@@ -56,34 +113,11 @@ pub fn normal_format(device: &Device) -> vk::Format {
 }
 
 impl ShadowPass {
-    pub fn new(device: &Arc<Device>, size: u32) -> Result<Self> {
+    /// `steep`: also render the second maps (where the light's maps bend).
+    pub fn new(device: &Arc<Device>, size: u32, steep: bool) -> Result<Self> {
         let sets = DescriptorSets::new(device, "shadow", BINDINGS, FRAMES_IN_FLIGHT as u32)?;
-        let extent = vk::Extent2D { width: size, height: size };
-        let sampled =
-            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC;
-        let position = Image::new(device, "light position map", extent, vk::Format::R32G32B32A32_SFLOAT, sampled)?;
-        let normal = Image::new(device, "light normal map", extent, normal_format(device), sampled)?;
-        let depth = Image::new(
-            device,
-            "light depth",
-            extent,
-            vk::Format::D32_SFLOAT,
-            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
-        )?;
-        let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
-        let render_pass = RenderPass::new(
-            device,
-            "shadow",
-            &[
-                Attachment { image: &position, load: Load::Clear([0.0; 4]), final_layout: read },
-                Attachment { image: &normal, load: Load::Clear([0.0; 4]), final_layout: read },
-            ],
-            Some(&Attachment {
-                image: &depth,
-                load: Load::Clear([1.0; 4]),
-                final_layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
-            }),
-        )?;
+        let [position, normal, depth] = map_images(device, "light", size)?;
+        let render_pass = map_render_pass(device, "shadow", &position, &normal, &depth)?;
         let pipeline = shaders::graphics_pipeline(
             device,
             &GraphicsPipelineDesc {
@@ -94,18 +128,32 @@ impl ShadowPass {
                 vertex_stride: std::mem::size_of::<crate::passes::mesh::MeshVertex>() as u32,
                 vertex_attributes: &MESH_ATTRIBUTES[..2],
                 geometry: Some("shadow.geom"),
+                // Which maps (shadow.geom's `steep`).
+                push_constant_bytes: 4,
                 ..GraphicsPipelineDesc::new("shadow", "shadow.vert", "shadow.frag", render_pass.raw)
             },
         )?;
-        Ok(Self { pipeline, render_pass, position, normal, _depth: depth, sets, device: device.clone() })
+        let steep = if steep {
+            let [position, normal, depth] = map_images(device, "steep light", size)?;
+            let render_pass = map_render_pass(device, "shadow (steep maps)", &position, &normal, &depth)?;
+            Some(SteepMaps { render_pass, position, normal, _depth: depth })
+        } else {
+            None
+        };
+        Ok(Self { pipeline, render_pass, position, normal, _depth: depth, steep, sets, device: device.clone() })
     }
 
     pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize, meshes: &GpuMeshes) {
         let dev = &self.device;
         let set = self.sets.sets[frame_index];
-        self.render_pass.begin(cmd);
-        self.pipeline.bind(cmd, Some(set));
-        meshes.draw(dev, cmd);
-        self.render_pass.end(cmd);
+        let passes =
+            std::iter::once((&self.render_pass, 0u32)).chain(self.steep.as_ref().map(|s| (&s.render_pass, 1u32)));
+        for (render_pass, steep) in passes {
+            render_pass.begin(cmd);
+            self.pipeline.bind(cmd, Some(set));
+            self.pipeline.push(cmd, &steep.to_ne_bytes());
+            meshes.draw(dev, cmd);
+            render_pass.end(cmd);
+        }
     }
 }
