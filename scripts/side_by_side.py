@@ -9,11 +9,14 @@ PNG. docs/accuracy.md's estimator pictures come from it:
     python3 scripts/side_by_side.py docs/x.png out/ref/tank/caustics.pfm out/gpu/tank/caustics.pfm \\
         -- out/ref/port/caustics.pfm out/gpu/port/caustics.pfm
 
-Arguments: [--scale S] [--upsample] the output PNG, then the PFM files of the first row, "--", those of
-the next, ... Every image is drawn at S times its size (nearest; 1.5 unless given), with a
-4-pixel grey gutter. docs/godray-methods.png is the godray buffers at --scale 4.5. With
---upsample, a buffer smaller than its row's first is drawn upsampled to that size as compose
-reads it (bilinear between texel centres; docs/caustic-target-scale.png).
+Arguments: [--scale S] [--upsample] [--crop X0,Y0,X1,Y1] the output PNG, then the PFM files of
+the first row, "--", those of the next, ... Every image is drawn at S times its size (nearest;
+1.5 unless given), with a 4-pixel grey gutter. docs/godray-methods.png is the godray buffers
+at --scale 4.5. With --upsample, a buffer smaller than its row's first is drawn upsampled to
+that size as compose reads it (bilinear between texel centres; docs/caustic-target-scale.png).
+With --crop, every image is cut to the pixels x0 <= x < x1, y0 <= y < y1 (from the top left)
+before it is drawn, and the exposure comes from the row's first crop
+(docs/light-map-steeper.png, docs/caustic-brightness-survey.png).
 """
 import struct
 import sys
@@ -60,6 +63,15 @@ def main():
     upsampled = len(sys.argv) > 1 and sys.argv[1] == "--upsample"
     if upsampled:
         del sys.argv[1]
+    crop = None
+    if len(sys.argv) > 2 and sys.argv[1] == "--crop":
+        try:
+            crop = [int(v) for v in sys.argv[2].split(",")]
+        except ValueError:
+            crop = []
+        if len(crop) != 4 or crop[0] < 0 or crop[1] < 0 or crop[2] <= crop[0] or crop[3] <= crop[1]:
+            sys.exit("--crop takes X0,Y0,X1,Y1: whole pixels from the top left, X1 > X0 >= 0, Y1 > Y0 >= 0")
+        del sys.argv[1:3]
     if len(sys.argv) < 3:
         sys.exit(__doc__)
     out, rest = sys.argv[1], sys.argv[2:]
@@ -79,6 +91,13 @@ def main():
                 if (w, h) != (w0, h0) and w <= w0 and h <= h0:
                     flat = upsample(w, h, 1, [v for row in pixels for v in row], w0, h0)
                     row_images[i] = (w0, h0, [flat[y * w0:(y + 1) * w0] for y in range(h0)])
+    if crop:
+        x0, y0, x1, y1 = crop
+        for row_images in images:
+            for i, (w, h, pixels) in enumerate(row_images):
+                if x1 > w or y1 > h:
+                    sys.exit("--crop %d,%d,%d,%d reaches past a %dx%d image" % (x0, y0, x1, y1, w, h))
+                row_images[i] = (x1 - x0, y1 - y0, [row[x0:x1] for row in pixels[y0:y1]])
     columns = max(len(g) for g in images)
     cell_w = max(int(w * SCALE) for g in images for (w, _, _) in g)
     cell_h = max(int(h * SCALE) for g in images for (_, h, _) in g)

@@ -8,6 +8,7 @@ use crate::image_io::HdrImage;
 use crate::passes::PassId;
 use crate::scene::Scene;
 use crate::vk::device::Device;
+use crate::vk::image::Image;
 use crate::vk::readback::Readback;
 use crate::vk::timing::TimedPass;
 use ash::vk;
@@ -121,14 +122,14 @@ impl SceneRenderer {
         for (slot, image) in effects.iter_mut().zip(effect_images(&frame)) {
             *slot = image.map(|i| Readback::new(device, i)).transpose()?;
         }
-        let light_maps = match (&frame.shadow, options.record_photons) {
-            (Some(s), true) => Some([Readback::new(device, &s.position)?, Readback::new(device, &s.normal)?]),
-            _ => None,
+        // With photon recording, each pair of light maps the frame has (positions, normals).
+        let maps = |pair: Option<(&Image, &Image)>| -> Result<Option<[Readback; 2]>> {
+            pair.filter(|_| options.record_photons)
+                .map(|(position, normal)| Ok([Readback::new(device, position)?, Readback::new(device, normal)?]))
+                .transpose()
         };
-        let steep_light_maps = match (frame.shadow.as_ref().and_then(|s| s.steep.as_ref()), options.record_photons) {
-            (Some(s), true) => Some([Readback::new(device, &s.position)?, Readback::new(device, &s.normal)?]),
-            _ => None,
-        };
+        let [first, second] = light_map_pairs(&frame);
+        let (light_maps, steep_light_maps) = (maps(first)?, maps(second)?);
         Ok(Self { frame, ring, output, scene_color, albedo_transmittance, effects, light_maps, steep_light_maps })
     }
 
@@ -160,15 +161,11 @@ impl SceneRenderer {
                             rb.record_from(cmd, image, read);
                         }
                     }
-                    if let (Some([positions, normals]), Some(shadow)) = (lm, &frame.shadow) {
-                        positions.record_from(cmd, &shadow.position, read);
-                        normals.record_from(cmd, &shadow.normal, read);
-                    }
-                    if let (Some([positions, normals]), Some(steep)) =
-                        (steep_lm, frame.shadow.as_ref().and_then(|s| s.steep.as_ref()))
-                    {
-                        positions.record_from(cmd, &steep.position, read);
-                        normals.record_from(cmd, &steep.normal, read);
+                    for (readbacks, pair) in [lm, steep_lm].into_iter().zip(light_map_pairs(frame)) {
+                        if let (Some([positions, normals]), Some((position, normal))) = (readbacks, pair) {
+                            positions.record_from(cmd, position, read);
+                            normals.record_from(cmd, normal, read);
+                        }
                     }
                 });
             }
@@ -238,11 +235,18 @@ pub(crate) fn run_frames<P: TimedPass>(
 }
 
 /// The frame's photon buffers in `SceneRenderer::effects` order.
-fn effect_images(frame: &Frame) -> [Option<&crate::vk::image::Image>; 4] {
+fn effect_images(frame: &Frame) -> [Option<&Image>; 4] {
     [
         frame.caustics.as_ref().map(|c| &c.target.image),
         frame.caustic_filter.as_ref().map(|f| &f.output.image),
         frame.godrays.as_ref().map(|g| &g.target.image),
         frame.godray_filter.as_ref().map(|f| &f.output.image),
     ]
+}
+
+/// The frame's pairs of light maps (positions, normals): the first, and the second, steeper
+/// one where it has them.
+fn light_map_pairs(frame: &Frame) -> [Option<(&Image, &Image)>; 2] {
+    let shadow = frame.shadow.as_ref();
+    [shadow.map(|s| (&s.position, &s.normal)), shadow.and_then(|s| s.steep.as_ref()).map(|s| (&s.position, &s.normal))]
 }

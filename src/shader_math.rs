@@ -729,17 +729,10 @@ impl PhotonCaster<'_> {
         }
         let point = u.light_is_point > 0.0;
         let light_pos = Vec3::from_array(u.light_position);
+        let stretch = if steep { u.steep_texel_stretch } else { u.refracted_texel_stretch };
         let texel_size = 2.0 * u.light_half_extent[0].max(u.light_half_extent[1]) / u.light_map_size
             * if point { (hit - light_pos).length() } else { 1.0 }
-            * if !point && hit.y < u.water_level {
-                if steep {
-                    u.steep_texel_stretch
-                } else {
-                    u.refracted_texel_stretch
-                }
-            } else {
-                1.0
-            };
+            * if !point && hit.y < u.water_level { stretch } else { 1.0 };
         let normal = self.normal(texel, steep);
         let light_to_hit = self.light_map_direction(hit, steep);
         let receiver = Vec3::new(r[0], r[1], r[2]);

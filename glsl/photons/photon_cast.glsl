@@ -84,10 +84,6 @@ bool light_texel(vec3 p, bool steep, out ivec2 texel) {
     return true;
 }
 
-bool light_texel(vec3 p, out ivec2 texel) {
-    return light_texel(p, false, texel);
-}
-
 // The receiver (xyz, w > 0 where one) and its normal at a texel of either pair of maps.
 vec4 map_receiver(ivec2 texel, bool steep) {
     return steep ? texelFetch(light_position_steep, texel, 0) : texelFetch(light_position, texel, 0);
@@ -275,7 +271,7 @@ bool cast_photon(vec2 uv, vec2 photons_per_axis, out Photon ph) {
     // Blocked before reaching the water (a deck, a wall above it): the light's first
     // receiver along the ray is nearer than the surface. This is the water mask, derived.
     ivec2 texel;
-    if (light_texel(ps, texel)) {
+    if (light_texel(ps, false, texel)) {
         vec4 first = texelFetch(light_position, texel, 0);
         if (first.w > 0.0 && dot(first.xyz - o, d) < t - 1e-3) { photon_fate = PHOTON_BLOCKED_ABOVE; return false; }
     }

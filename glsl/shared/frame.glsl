@@ -87,25 +87,22 @@ layout(set = 0, binding = BINDING_UNIFORMS, std430) readonly buffer FrameUniform
 
 const int PHOTON_DENSITY_KNOTS = 32;
 
-// Where the light's maps put world point p: p itself above the water; below it (directional
-// light), p slid back along the refracted light direction to the water level and on along the
-// light's own, so that an underwater receiver lands in the texel of the photons that reach it
-// (through flat water), not in that of the straight light ray. The Rust twin is
-// shader_math::light_map_point.
-vec3 light_map_point_along(vec3 p, vec3 r) {
-    if (!(r.y < -1e-3)) return p;
-    float along = max(frame.water_level - p.y, 0.0) / -r.y;
-    return p + along * (frame.light_axis - r);
-}
-
 // The underwater direction the first maps (false) or the second, steeper ones (true) bend
 // along (frame::uniforms::steep_light_axis says why there are two).
 vec3 light_map_bend(bool steep) {
     return steep ? frame.steep_light_axis : frame.refracted_light_axis;
 }
 
+// Where the first light maps (`steep`: the second) put world point p: p itself above the
+// water; below it (directional light), p slid back along the maps' bend (for the first, the
+// refracted light direction) to the water level and on along the light's own, so that an
+// underwater receiver lands in the texel of the photons that reach it (through flat water),
+// not in that of the straight light ray. The Rust twin is shader_math::light_map_point.
 vec3 light_map_point(vec3 p, bool steep) {
-    return light_map_point_along(p, light_map_bend(steep));
+    vec3 r = light_map_bend(steep);
+    if (!(r.y < -1e-3)) return p;
+    float along = max(frame.water_level - p.y, 0.0) / -r.y;
+    return p + along * (frame.light_axis - r);
 }
 
 vec3 light_map_point(vec3 p) {
@@ -118,10 +115,6 @@ vec3 light_map_direction(vec3 p, bool steep) {
     if (frame.light_is_point > 0.0) return normalize(p - frame.light_position);
     vec3 r = light_map_bend(steep);
     return r.y < -1e-3 && p.y < frame.water_level ? r : frame.light_axis;
-}
-
-vec3 light_map_direction(vec3 p) {
-    return light_map_direction(p, false);
 }
 
 WaterParams frame_water() {
