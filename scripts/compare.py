@@ -10,6 +10,10 @@ larger by a whole factor f on both axes is averaged over f×f blocks instead: re
 times the size, f² samples per pixel. With --blur N both buffers are first averaged over an
 N×N box around each pixel (the part of it inside the buffer): the error left at scales above
 N pixels.
+Where the reference's folder holds caustics_half.pfm (`underlight reference` writes it: the
+same estimate from an independent half of the photons), the reference's own error is printed
+too, from its two halves, and the figure it leaves for the GPU's buffer, sqrt(figure^2 -
+own^2): a reference whose own error is not well below the figure inflates it.
 docs/accuracy.md's step-by-step table and own-size gap fractions:
 
     underlight reference --scene tank --width 320 --height 200 --out out/ref
@@ -21,6 +25,7 @@ docs/accuracy.md's step-by-step table and own-size gap fractions:
     python3 scripts/compare.py --blur 3 out/own/caustics.pfm out/ref-own/caustics.pfm
 """
 import math
+import os
 import sys
 
 from pfm import read_pfm
@@ -135,6 +140,16 @@ def main():
     mean_ref = sum(ref) / len(ref)
     rmse = math.sqrt(sum((g - r) ** 2 for g, r in zip(gpu, ref)) / len(ref)) / mean_ref
     print("%s: relative RMSE %.3f, flux %+.2f %%" % (args[0], rmse, 100 * (sum(gpu) / sum(ref) - 1)))
+    half_path = os.path.join(os.path.dirname(args[1]), "caustics_half.pfm")
+    if os.path.basename(args[1]) == "caustics.pfm" and os.path.exists(half_path):
+        w3, h3, c3, half = read_pfm(half_path)
+        if (w3, h3, c3) == (w2, h2, c2):
+            if blur > 1:
+                half = box_blur(w3, h3, c3, half, blur)
+            # The halves' difference has the reference's own noise (src/reference/mod.rs).
+            own = math.sqrt(sum((a - r) ** 2 for a, r in zip(half, ref)) / len(ref)) / mean_ref
+            print("  the reference's own error, from its two halves: %.3f; without it the figure reads %.3f"
+                  % (own, math.sqrt(max(rmse * rmse - own * own, 0.0))))
 
 
 if __name__ == "__main__":

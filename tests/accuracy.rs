@@ -279,6 +279,17 @@ fn sweep_writes_csv_table_and_pareto_plot() {
             other => panic!("caustic target width {other}: {row}"),
         }
     }
+    // The reference's own error, from its two halves, beside every row; a sweep whose
+    // reference is noisy for a figure it measures says so.
+    let reference_own = column("caustic_reference_own_error");
+    let mut noisy = false;
+    for row in &rows {
+        let f: Vec<&str> = row.split(',').collect();
+        let (own, figure): (f64, f64) = (f[reference_own].parse().unwrap(), f[own].parse().unwrap());
+        assert!(own > 0.0 && own < figure, "the reference's own error {own} against the figure {figure}: {row}");
+        noisy |= own > figure / 3.0;
+    }
+    assert_eq!(text.contains("the reference's own caustic error"), noisy, "{text}");
     let png = std::fs::read(out.join("sweep.png")).unwrap();
     assert!(png.starts_with(b"\x89PNG") && png.len() > 10_000, "the plot is not a drawn PNG ({} bytes)", png.len());
     assert!(std::fs::read_to_string(out.join("sweep.md")).unwrap().contains("| photons |"));

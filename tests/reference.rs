@@ -12,6 +12,7 @@ use common::{pool, FLOOR_DEPTH};
 use glam::{DVec2, DVec3, DVec4, Mat4, Vec2, Vec3};
 use underlight::frame::uniforms::{directional_irradiance, FrameExtents, FrameUniforms};
 use underlight::image_io::HdrImage;
+use underlight::metrics::buffer_error;
 use underlight::reference::{render, ReferenceImages, ReferenceSettings};
 use underlight::scene::{Light, LightKind, Scene};
 use underlight::shader_math::{fresnel_transmittance, henyey_greenstein, water_phase};
@@ -630,6 +631,35 @@ fn doubling_the_photons_changes_the_result_by_less_than_its_error() {
     );
     assert!((lb / la - 1.0).abs() < 0.01, "block {la:e} at N, {lb:e} at 2N");
     assert!((ib / ia - 1.0).abs() < 0.01, "image mean {ia:e} at N, {ib:e} at 2N");
+}
+
+#[test]
+fn the_two_halves_of_the_photons_measure_the_references_own_error() {
+    // The wave at N and 4N photons (independent seeds). Each run's halves give its own
+    // error (ReferenceImages::caustics_half); the two runs then differ by about
+    // √(own_N² + own_4N²). Halves that are not independent fail it: every other cell of one
+    // stratification read 1.6× the difference here. With 4× the photons the own error falls
+    // at least as Poisson noise does (½); the stratified map of a smooth wave makes it fall
+    // faster (measured 0.35).
+    let scene = wave_scene();
+    let ext = extents([64, 64], [64, 64], [16, 16]);
+    let n = 250_000;
+    let own = |images: &ReferenceImages| {
+        let (all, half) = (images.caustics.as_ref().unwrap(), images.caustics_half.as_ref().unwrap());
+        buffer_error(half, all).unwrap().relative_rmse
+    };
+    let a = run(&scene, 1.0, &ext, &ReferenceSettings { seed: 11, ..settings(n, 0) });
+    let b = run(&scene, 1.0, &ext, &ReferenceSettings { seed: 12, ..settings(4 * n, 0) });
+    let (own_a, own_b) = (own(&a), own(&b));
+    let predicted = (own_a * own_a + own_b * own_b).sqrt();
+    let measured = buffer_error(a.caustics.as_ref().unwrap(), b.caustics.as_ref().unwrap()).unwrap().relative_rmse;
+    eprintln!(
+        "own error at N {own_a:.4}, at 4N {own_b:.4} (ratio {:.2}); N against 4N {measured:.4}, predicted {predicted:.4}",
+        own_a / own_b
+    );
+    assert!(own_a > 0.02, "the halves should differ by the photon noise: {own_a}");
+    assert!((1.8..4.2).contains(&(own_a / own_b)), "4× the photons should cut the own error 2-4×: {own_a} → {own_b}");
+    assert!((0.8..1.25).contains(&(measured / predicted)), "measured {measured}, predicted {predicted}");
 }
 
 #[test]

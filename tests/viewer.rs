@@ -71,6 +71,7 @@ fn viewer_sessions_under_xvfb() {
         effect_ms: 1.0,
         frame_ms: 1.0,
         caustics: Some(underlight::metrics::BufferError { relative_rmse: caustic, ..Default::default() }),
+        caustic_reference_own_error: None,
         caustics_at_output: None,
         godrays: Some(underlight::metrics::BufferError { relative_rmse: 0.098, ..Default::default() }),
         godrays_at_output: None,

@@ -52,6 +52,11 @@ pub struct SweepRow {
     /// Median GPU ms of the whole frame (all passes).
     pub frame_ms: f64,
     pub caustics: Option<BufferError>,
+    /// The reference caustic buffer's own relative RMSE, from its two halves
+    /// (`ReferenceImages::caustics_half`): `caustics` reads about √(error² + this²), so this
+    /// must stay well below it. None in sweeps from before it was measured.
+    #[serde(default)]
+    pub caustic_reference_own_error: Option<f64>,
     /// The caustic buffer upsampled to the output as compose reads it, against a reference
     /// traced at the output's size: the error of the light the image shows, comparable
     /// between caustic target sizes (`caustics` is taken at each row's own target size).
@@ -195,6 +200,10 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
             effect_ms,
             frame_ms,
             caustics: error(gpu_c, &reference.caustics)?,
+            caustic_reference_own_error: match (&reference.caustics_half, &reference.caustics) {
+                (Some(half), Some(all)) => Some(buffer_error(half, all)?.relative_rmse),
+                _ => None,
+            },
             caustics_at_output,
             godrays: error(gpu_g, &reference.godrays)?,
             godrays_at_output,
@@ -205,5 +214,26 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
         });
     }
     mark_pareto(&mut rows);
+    warn_of_a_noisy_reference(&rows);
     Ok(rows)
+}
+
+/// A reference whose own error is over a third of a figure it measures makes that figure
+/// read more than 5 % high (√(1 + 1/9)); says so once, with what the figure would read
+/// against an exact reference (√(figure² − own²)), and what to do, on stderr.
+fn warn_of_a_noisy_reference(rows: &[SweepRow]) {
+    for r in rows {
+        let (Some(own), Some(e)) = (r.caustic_reference_own_error, r.caustics) else { continue };
+        let figure = e.relative_rmse;
+        if own > figure / 3.0 {
+            let exact = (figure * figure - own * own).max(0.0).sqrt();
+            eprintln!(
+                "warning: {}: the reference's own caustic error ({own:.3}, from its two halves) is over a third of the \
+                 figure it measures ({figure:.3}, about {exact:.3} against an exact reference): trace more reference \
+                 photons (--photons)",
+                r.scene
+            );
+            return;
+        }
+    }
 }

@@ -99,20 +99,27 @@ pub fn cached_reference(
     cache_dir: &Path,
 ) -> Result<ReferenceImages> {
     let dir = cache_dir.join(reference_key(scene, extents, time, settings));
-    let (caustics, godrays) = (dir.join("caustics.pfm"), dir.join("godrays.pfm"));
+    let (caustics, caustics_half, godrays) =
+        (dir.join("caustics.pfm"), dir.join("caustics_half.pfm"), dir.join("godrays.pfm"));
     let want = |on: bool, p: &Path| !on || p.exists();
     let plan = crate::frame::FramePlan::for_scene(scene);
     let (has_c, has_g) = (plan.runs(PassId::Caustics), plan.runs(PassId::Godrays));
-    if dir.join("done").exists() && want(has_c, &caustics) && want(has_g, &godrays) {
+    // A cache from before the half buffer existed lacks it, and is traced again.
+    if dir.join("done").exists() && want(has_c, &caustics) && want(has_c, &caustics_half) && want(has_g, &godrays) {
         let load = |on: bool, p: &Path| if on { read_pfm(p).map(Some) } else { Ok(None) };
-        return Ok(ReferenceImages { caustics: load(has_c, &caustics)?, godrays: load(has_g, &godrays)? });
+        return Ok(ReferenceImages {
+            caustics: load(has_c, &caustics)?,
+            caustics_half: load(has_c, &caustics_half)?,
+            godrays: load(has_g, &godrays)?,
+        });
     }
     let progress = Progress::new(format!("reference {} t={time}", scene.name));
     let images = crate::reference::render(scene, time, extents, settings, &|f| progress.update(f))?;
     progress.update(1.0);
     std::fs::create_dir_all(&dir).with_context(|| format!("creating the reference cache {}", dir.display()))?;
-    if let Some(c) = &images.caustics {
+    if let (Some(c), Some(h)) = (&images.caustics, &images.caustics_half) {
         write_pfm(&caustics, c)?;
+        write_pfm(&caustics_half, h)?;
     }
     if let Some(g) = &images.godrays {
         write_pfm(&godrays, g)?;

@@ -30,7 +30,7 @@ pub fn csv(rows: &[SweepRow]) -> String {
          line_width,filter,effect_ms,frame_ms,caustic_rel_rmse,caustic_mean_rel_error,caustic_flux_error,\
          godray_rel_rmse,godray_mean_rel_error,godray_flux_error,flip,caustic_change_gpu,caustic_change_reference,\
          caustic_rel_rmse_at_output,caustic_flux_error_at_output,godray_target_w,godray_target_h,\
-         godray_rel_rmse_at_output,godray_flux_error_at_output,pareto\n",
+         godray_rel_rmse_at_output,godray_flux_error_at_output,caustic_reference_own_error,pareto\n",
     );
     let opt = |e: Option<BufferError>| match e {
         Some(e) => format!("{:.5},{:.5},{:.5}", e.relative_rmse, e.mean_relative_error, e.flux_error),
@@ -40,7 +40,7 @@ pub fn csv(rows: &[SweepRow]) -> String {
         |e: Option<BufferError>| e.map(|e| format!("{:.5},{:.5}", e.relative_rmse, e.flux_error)).unwrap_or(",".into());
     for r in rows {
         s += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{},{},{:.5},{:.5},{:.5},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{},{},{:.5},{:.5},{:.5},{},{},{},{},{},{}\n",
             r.estimator,
             r.godray_method,
             r.caustic_grid,
@@ -65,6 +65,7 @@ pub fn csv(rows: &[SweepRow]) -> String {
             r.godray_target[0],
             r.godray_target[1],
             at_output(r.godrays_at_output),
+            r.caustic_reference_own_error.map(|e| format!("{e:.5}")).unwrap_or_default(),
             r.pareto
         );
     }
@@ -74,12 +75,13 @@ pub fn csv(rows: &[SweepRow]) -> String {
 /// A table for the terminal and docs (Markdown).
 pub fn table(rows: &[SweepRow]) -> String {
     let mut s = String::from(
-        "| estimator | godrays | photons | iter | target | points ≤ | filter | effect ms | caustic rel RMSE | flux err | at the output | godray target | godray rel RMSE | at the output | FLIP | change GPU / ref | front |\n\
+        "| estimator | godrays | photons | iter | target | points ≤ | filter | effect ms | caustic rel RMSE (reference's own) | flux err | at the output | godray target | godray rel RMSE | at the output | FLIP | change GPU / ref | front |\n\
          | --- | --- | ---: | ---: | --- | ---: | --- | ---: | ---: | ---: | ---: | --- | ---: | ---: | ---: | --- | --- |\n",
     );
     let rmse = |e: Option<BufferError>| e.map(|e| format!("{:.3}", e.relative_rmse)).unwrap_or("–".into());
     for r in rows {
-        let c = r.caustics.map(|e| (format!("{:.3}", e.relative_rmse), format!("{:+.1} %", 100.0 * e.flux_error)));
+        let own = r.caustic_reference_own_error.map(|o| format!(" ({o:.3})")).unwrap_or_default();
+        let c = r.caustics.map(|e| (format!("{:.3}{own}", e.relative_rmse), format!("{:+.1} %", 100.0 * e.flux_error)));
         let (c_rmse, c_flux) = c.unwrap_or(("–".into(), "–".into()));
         s += &format!(
             "| {} | {} | {}² × {}²{} | {} | {}×{} | {} | {} | {:.1} | {} | {} | {} | {}×{} | {} | {} | {:.3} | {:.3} / {:.3} | {} |\n",
@@ -248,6 +250,7 @@ mod tests {
             effect_ms: 1.0,
             frame_ms: 2.0,
             caustics: e,
+            caustic_reference_own_error: None,
             caustics_at_output: e,
             godrays: e,
             godrays_at_output: e,

@@ -120,6 +120,7 @@ mod tests {
             effect_ms: ms,
             frame_ms: ms,
             caustics: e(caustic),
+            caustic_reference_own_error: None,
             caustics_at_output: e(caustic),
             godrays: e(godray),
             godrays_at_output: None,

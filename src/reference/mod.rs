@@ -54,6 +54,14 @@ pub struct ReferenceSettings {
 pub struct ReferenceImages {
     /// Irradiance on the receiver seen through each caustic-target pixel, W/m² (rgb per channel of gamma; a = photons that landed in the pixel), size extents.caustic. None when the scene's plan has no caustics.
     pub caustics: Option<HdrImage>,
+    /// The same estimate from half of the photons, a set independent of the other half
+    /// (a: its photons that landed). `caustics` is the mean of the two halves, so
+    /// `caustics − caustics_half` is half their difference, which has the variance of
+    /// `caustics`' own noise: `metrics::buffer_error(half, caustics)` is the reference's own
+    /// relative error, for no extra photons. A figure measured against the reference reads
+    /// about √(error² + own²), so the own error must stay well below the errors it measures
+    /// (`sweep` warns where it does not).
+    pub caustics_half: Option<HdrImage>,
     /// In-scattered radiance along each godray-target pixel's view ray, W/(m²·sr), size extents.godray. None when no godrays.
     /// (a = beams that contributed to the pixel.)
     pub godrays: Option<HdrImage>,
@@ -72,7 +80,7 @@ pub fn render(
     validate(time, extents, settings, want_caustics, want_godrays)?;
     if !want_caustics && !want_godrays {
         progress(1.0);
-        return Ok(ReferenceImages { caustics: None, godrays: None });
+        return Ok(ReferenceImages { caustics: None, caustics_half: None, godrays: None });
     }
     let noise = NoiseTexture::generate();
     let ctx = Context::new(scene, &noise, time, extents)?;
@@ -89,16 +97,20 @@ pub fn render(
         height: size[1],
         pixels: vec![[0.0; 4]; (size[0] * size[1]) as usize],
     };
-    let caustics = want_caustics.then(|| match &ctx.sampler {
-        Some(sampler) => caustics::render(&ctx, sampler, settings, threads, &progress),
-        None => blank(extents.caustic),
-    });
+    let (caustics, caustics_half) = match (want_caustics, &ctx.sampler) {
+        (false, _) => (None, None),
+        (true, Some(sampler)) => {
+            let (all, half) = caustics::render(&ctx, sampler, settings, threads, &progress);
+            (Some(all), Some(half))
+        }
+        (true, None) => (Some(blank(extents.caustic)), Some(blank(extents.caustic))),
+    };
     let godrays = want_godrays.then(|| match &ctx.sampler {
         Some(sampler) => godrays::render(&ctx, sampler, settings, threads, &progress),
         None => blank(extents.godray),
     });
     (progress.report)(1.0);
-    Ok(ReferenceImages { caustics, godrays })
+    Ok(ReferenceImages { caustics, caustics_half, godrays })
 }
 
 fn validate(
