@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """How much of a GPU caustic buffer's error lies at the edges of the reference's lit regions
-(shadow edges, silhouettes, a receiver's rim). A pixel is in the band of width k when the
+(shadow edges, silhouettes, a receiver's rim), and how many pixels the GPU lights well inside
+the reference's shadows (cells reaching past a receiver's border). A pixel is in the band of width k when the
 reference lights a pixel within k pixels of it (Chebyshev distance) and leaves another one
 dark; lit means any channel above zero, which is exact for the reference's photon gathering.
 It prints the squared error's share where one of the two buffers is dark and the other lit,
@@ -44,6 +45,14 @@ def main():
     lit_dark = sum(e for e, r, g in zip(error, lit, gpu_lit) if r and not g)
     print("where the reference is dark and the GPU lit: %.1f %% of the squared error; lit and dark: %.1f %%"
           % (100.0 * dark_lit / max(total, 1e-30), 100.0 * lit_dark / max(total, 1e-30)))
+    # Light spilled into the reference's shadows: pixels with no lit reference pixel within
+    # 2 px that the GPU lights above 5 % of the reference's mean lit pixel (channel sums).
+    ref_sum = [sum(ref[p * c:(p + 1) * c]) for p in range(n)]
+    lit_sums = [v for v in ref_sum if v > 0.0]
+    threshold = 0.05 * sum(lit_sums) / max(len(lit_sums), 1)
+    deep_dark = [not v for v in near(lit, w, h, 2)]
+    spilled = sum(1 for p in range(n) if deep_dark[p] and sum(gpu[p * c:(p + 1) * c]) > threshold)
+    print("lit more than 2 px inside the reference's dark: %d pixels of its %d" % (spilled, sum(deep_dark)))
     for k in (1, 2):
         near_lit, near_dark = near(lit, w, h, k), near([not v for v in lit], w, h, k)
         band = [a and b for a, b in zip(near_lit, near_dark)]

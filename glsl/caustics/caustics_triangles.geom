@@ -29,7 +29,9 @@
 //     over what lies between; its flux goes back to its landed corners. Each draws what it
 //     is handed over its own cell on its receiver's plane (emit_footprint): the
 //     parallelogram its grid neighbours' refracted rays span on that plane, the photon
-//     differential, which needs their rays, not their hits. Where that cannot be had (no
+//     differential, which needs their rays, not their hits. Towards a neighbour on another
+//     receiver, or one that did not land, the cell reaches to where its receiver ends,
+//     found by bisecting the grid edge between them (search_borders), not half-way. Where that cannot be had (no
 //     neighbour refracted), a square the size of its footprint or of the paper's points,
 //     whichever is smaller. (Squares everywhere were the tank's most visible flaw: dots of
 //     light on its ledge, its cube's face and its rocks, where the light grazes a face and
@@ -93,6 +95,12 @@ float around_area[MAX_PHOTONS];
 float around_pixels[MAX_PHOTONS];     // their pixels and world area, where in front of the
 float around_pixel_area[MAX_PHOTONS]; // camera: the receiver area per pixel near the photon
 float around_count[MAX_PHOTONS];      // how many such triangles (a photon's cell is two)
+vec2 grid_uv[MAX_PHOTONS];   // where on the photon grid it was cast (cast_photon's uv)
+// Where the receiver of photon k, or of its neighbour, ends on the grid edge to its +u (k + 1)
+// and +v (k + side) neighbour, as a fraction of the edge from k (search_borders); −1 where
+// not searched (both ends on one receiver, or neither seen).
+float border_u[MAX_PHOTONS];
+float border_v[MAX_PHOTONS];
 
 // A square of s.size pixels centred on s.clip, at the photon's one depth; `footprint` is the
 // fragment shader's weighting code: a sliver's (a 2-pixel square), or for a lone photon's
@@ -291,13 +299,94 @@ void emit_triangle(int a, int b, int c) {
     EndPrimitive();
 }
 
+// Whether a photon that landed at `p` with receiver normal `n` lies on photon k's receiver:
+// one_receiver's test for a pair (normals within 45°, off k's tangent plane by under a quarter
+// of the distance).
+bool on_receiver_of(int k, vec3 p, vec3 n) {
+    if (dot(normal[k], n) < 0.7) return false;
+    vec3 d = p - hit[k];
+    return abs(dot(d, normal[k])) <= 0.25 * length(d);
+}
+
+// Bisections of a grid edge whose ends lie on different receivers, or of which one end did
+// not land (a shadow's edge, the water's): each casts a photon at the middle of the interval
+// left, and halves it. Without them a photon's handed-back flux reached half-way to its
+// neighbour whatever lay between, and every lit region's border was a staircase of cells
+// (long spikes where cells stretch along the view: the tank's shadows at 800×800).
+const int BORDER_BISECTIONS = 3;
+const int MAX_EDGES = 2 * MAX_SIDE * (MAX_SIDE - 1);
+
+// Whether grid edge k → m crosses a receiver's border that a drawn photon's cell reaches:
+// an end the camera sees the lit side of, and the other end off its receiver.
+bool edge_crosses_border(int k, int m) {
+    if (!(seen[k] || seen[m])) return false;
+    if (!(landed[k] && landed[m])) return true;
+    return !on_receiver_of(k, hit[m], normal[m]);
+}
+
+// Searches every edge of the invocation that crosses a receiver's border (border_u,
+// border_v): from the end the camera sees, the fraction of the edge at which its receiver
+// ends. The edges are listed first and searched in one loop, around one cast_photon: an
+// invocation pays for its own borders, and the shader holds one copy of the photon's cast.
+void search_borders(int side, vec2 photons_per_axis) {
+    int edges[MAX_EDGES];
+    int count = 0;
+    for (int k = 0; k < side * side; ++k) {
+        int i = k % side, j = k / side;
+        if (i + 1 < side && edge_crosses_border(k, k + 1)) edges[count++] = 2 * k;
+        if (j + 1 < side && edge_crosses_border(k, k + side)) edges[count++] = 2 * k + 1;
+    }
+    for (int e = 0; e < count; ++e) {
+        int low = edges[e] >> 1;
+        bool along_u = (edges[e] & 1) == 0;
+        int high = along_u ? low + 1 : low + side;
+        // Search from the end the camera sees; the fraction is stored from the low end.
+        int from = seen[low] ? low : high, to = from == low ? high : low;
+        float inside = 0.0, outside = 1.0;
+        for (int b = 0; b < BORDER_BISECTIONS; ++b) {
+            float t = 0.5 * (inside + outside);
+            Photon ph;
+            bool on_it = false;
+            ivec2 texel;
+            if (cast_photon(mix(grid_uv[from], grid_uv[to], t), photons_per_axis, ph)
+                && light_texel(ph.hit, ph.steep_map, texel)) {
+                on_it = on_receiver_of(from, ph.hit, normalize(map_normal(texel, ph.steep_map) + 1e-6));
+                // Where the other end landed too, the sample belongs to whichever end's plane
+                // it lies nearer: on_receiver_of alone drifts with the distance from `from`,
+                // and put the border between two facets 30° apart past their crease (+5 %
+                // light there, tests/method.rs).
+                if (on_it && landed[to])
+                    on_it = abs(dot(ph.hit - hit[from], normal[from])) <= abs(dot(ph.hit - hit[to], normal[to]));
+            }
+            if (on_it) inside = t; else outside = t;
+        }
+        float border = 0.5 * (inside + outside);
+        if (from != low) border = 1.0 - border;
+        if (along_u) border_u[low] = border; else border_v[low] = border;
+    }
+}
+
+// How far photon k's cell reaches towards its grid neighbour m (−1: none in this
+// invocation), in grid edges: half-way where both lie on one receiver, otherwise to where
+// the receiver ends (search_borders; from the other end of the edge, 1 − that).
+float cell_reach(int k, int m) {
+    if (m < 0) return 0.5;
+    int low = min(k, m);
+    float border = max(k, m) - low == 1 ? border_u[low] : border_v[low];
+    if (border < 0.0) return 0.5;
+    return k == low ? border : 1.0 - border;
+}
+
 // Draws flux handed back to photon k over its cell on its receiver's plane: the parallelogram
 // of edges du and dv centred on its hit (footprint_edge), each edge at most
 // FOOTPRINT_MAX_EDGE pixels long. The cell is where the photon's share of the wavefront lands
 // on that plane, so this is the irradiance its triangles would have drawn there. A cell under
 // a pixel goes to the pixels its footprint overlaps, as a sliver does. False where a corner
-// lies behind the near plane or the cell has no area.
-bool emit_footprint(int k, vec3 du, vec3 dv) {
+// lies behind the near plane or the cell has no area. `reach`: how far the cell reaches
+// towards −u, +u, −v, +v, in grid edges (cell_reach; half of one where its neighbour there
+// shares its receiver): the irradiance is the half-edge cell's, drawn out to where the
+// receiver ends.
+bool emit_footprint(int k, vec3 du, vec3 dv, vec4 reach) {
     if (!(clip[k].w > frame.z_near)) return false;
     vec2 p = target_pixel(clip[k]);
     vec3 edges[2] = vec3[2](du, dv);
@@ -323,6 +412,8 @@ bool emit_footprint(int k, vec3 du, vec3 dv) {
                    (q & (QUARTER_MINUS_U_PLUS_V | QUARTER_PLUS_U_PLUS_V)) != 0 ? 0.5 : 0.0);
     float area = length(cross(edges[0], edges[1])) * (hi.x - lo.x) * (hi.y - lo.y);
     if (!(area > 1e-12)) return false;
+    lo *= 2.0 * reach.xz;
+    hi *= 2.0 * reach.yw;
     vec4 corner[4];
     for (int v = 0; v < 4; ++v) {
         corner[v] = clip[k] + ((v & 1) == 0 ? lo.x : hi.x) * clip_edges[0] + ((v >> 1) == 0 ? lo.y : hi.y) * clip_edges[1];
@@ -379,6 +470,9 @@ void main() {
             // the neighbour casts it (caustic_grid_photon_uv).
             vec2 uv = caustic_grid_photon_uv(cell, uvec2(i, j), SUBDIVISION, photons_per_axis);
             Photon ph;
+            grid_uv[k] = uv;
+            border_u[k] = -1.0;
+            border_v[k] = -1.0;
             landed[k] = cast_photon(uv, photons_per_axis, ph);
             hit[k] = ph.hit;
             cell_scale[k] = ph.cell_scale;
@@ -426,13 +520,22 @@ void main() {
             }
         }
     }
+    search_borders(side, photons_per_axis);
     for (int k = 0; k < side * side; ++k) {
         if (!seen[k] || all(equal(returned[k], vec3(0.0)))) continue;
         int i = k % side, j = k / side;
         vec3 du, dv;
-        if (footprint_edge(k, i > 0 ? k - 1 : -1, i + 1 < side ? k + 1 : -1, du)
-            && footprint_edge(k, j > 0 ? k - side : -1, j + 1 < side ? k + side : -1, dv)
-            && emit_footprint(k, du, dv)) continue;
+        int minus_u = i > 0 ? k - 1 : -1, plus_u = i + 1 < side ? k + 1 : -1;
+        int minus_v = j > 0 ? k - side : -1, plus_v = j + 1 < side ? k + side : -1;
+        if (footprint_edge(k, minus_u, plus_u, du) && footprint_edge(k, minus_v, plus_v, dv)) {
+            int q = returned_quadrants[k];
+            vec4 reach = vec4(0.5);
+            if ((q & (QUARTER_MINUS_U_MINUS_V | QUARTER_MINUS_U_PLUS_V)) != 0) reach.x = cell_reach(k, minus_u);
+            if ((q & (QUARTER_PLUS_U_MINUS_V | QUARTER_PLUS_U_PLUS_V)) != 0) reach.y = cell_reach(k, plus_u);
+            if ((q & (QUARTER_MINUS_U_MINUS_V | QUARTER_PLUS_U_MINUS_V)) != 0) reach.z = cell_reach(k, minus_v);
+            if ((q & (QUARTER_MINUS_U_PLUS_V | QUARTER_PLUS_U_PLUS_V)) != 0) reach.w = cell_reach(k, plus_v);
+            if (emit_footprint(k, du, dv, reach)) continue;
+        }
         float size = regulated_point_size(length(hit[k] - frame.camera_position), frame.z_near, frame.z_far,
                                           frame.point_size_min, frame.point_size_max);
         // No cell (no neighbour refracted, or a corner behind the camera): a square, the
