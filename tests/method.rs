@@ -908,11 +908,13 @@ fn triangles_cross_a_crease_between_facets_thirty_degrees_apart() {
     // to one receiver (normals within 45°, `one_receiver`) and are drawn. Refused there (the
     // 25° test before), their corners drew squares along the crease. Measured on lavapipe,
     // 320×320 (1 px = 3 mm): the facets read 0.999 of each other up to 3 px from the crease;
-    // within 4 px the crease holds −1.0 % of their light, per-pixel RMS deviation 0.30 (the
-    // two columns beside it at 1.29 and 0.52 on one side, 0.97 and 1.15 on the other; likely
-    // the light map's 1.2 cm texels, which there hold one facet or the other, and each hit is
-    // put on its texel's plane: not examined further). With the 25° test: −3.3 %, RMS 0.37,
-    // those columns 1.44 and 0.44 on both sides. The bounds sit between the two.
+    // within 4 px the crease holds −0.7 % of their light, per-pixel RMS deviation 0.22. Before
+    // refused cells reached to the border found by bisection (whose samples take the nearer
+    // end's plane; by the pair test alone the crease held +5.0 %, docs/accuracy.md): −1.0 %,
+    // RMS 0.30, the two columns beside it at 1.29 and 0.52 on one side, 0.97 and 1.15 on the
+    // other (likely the light map's 1.2 cm texels, which there hold one facet or the other,
+    // and each hit is put on its texel's plane: not examined further). With the 25° test:
+    // −3.3 %, RMS 0.37, those columns 1.44 and 0.44 on both sides. The bounds sit between.
     let slope = 15f32.to_radians().tan();
     let (w, half) = (0.8f32, 6.0f32);
     let facet_normal = |sign: f32| glam::Vec3::new(-sign * slope, 1.0, 0.0).normalize();
