@@ -9,7 +9,11 @@ beside the west wall ("Light maps along a steeper direction") with it:
 
     underlight render --scene tank --width 320 --height 200 --frames 1 --hdr out/gpu --out out/gpu/o.png
     underlight reference --scene tank --width 320 --height 200 --out out/ref
-    python3 scripts/block_ratios.py out/gpu/godrays.pfm out/ref/godrays.pfm [COLUMNS ROWS]
+    python3 scripts/block_ratios.py [--crop X0,Y0,X1,Y1] out/gpu/godrays.pfm out/ref/godrays.pfm [COLUMNS ROWS]
+
+With --crop, both buffers are first cut to the pixels x0 <= x < x1, y0 <= y < y1 (from the top
+left), and the blocks and the relative RMSE are the crop's (the rocks' sides in "Cells that
+reach to where their receiver ends").
 """
 import sys
 
@@ -18,14 +22,38 @@ from pfm import read_pfm
 WORST_PIXELS = 5
 
 
+def crop(w, h, c, values, x0, y0, x1, y1):
+    """The pixels x0 <= x < x1, y0 <= y < y1 (y from the top) of a buffer stored bottom row first."""
+    out = []
+    for file_row in range(h - y1, h - y0):
+        out.extend(values[(file_row * w + x0) * c:(file_row * w + x1) * c])
+    return out
+
+
 def main():
-    if len(sys.argv) not in (3, 5):
+    args = sys.argv[1:]
+    window = None
+    if "--crop" in args:
+        i = args.index("--crop")
+        try:
+            window = [int(v) for v in args[i + 1].split(",")]
+            assert len(window) == 4
+        except (IndexError, ValueError, AssertionError):
+            sys.exit("--crop takes X0,Y0,X1,Y1: four whole numbers")
+        del args[i:i + 2]
+    if len(args) not in (2, 4):
         sys.exit(__doc__)
-    w, h, c, gpu = read_pfm(sys.argv[1])
-    w2, h2, c2, ref = read_pfm(sys.argv[2])
+    w, h, c, gpu = read_pfm(args[0])
+    w2, h2, c2, ref = read_pfm(args[1])
     if (w, h, c) != (w2, h2, c2):
-        sys.exit("%s is %dx%dx%d, %s is %dx%dx%d" % (sys.argv[1], w, h, c, sys.argv[2], w2, h2, c2))
-    cols, rows = (int(sys.argv[3]), int(sys.argv[4])) if len(sys.argv) == 5 else (8, 5)
+        sys.exit("%s is %dx%dx%d, %s is %dx%dx%d" % (args[0], w, h, c, args[1], w2, h2, c2))
+    if window:
+        x0, y0, x1, y1 = window
+        if not (0 <= x0 < x1 <= w and 0 <= y0 < y1 <= h):
+            sys.exit("--crop %d,%d,%d,%d lies outside the %dx%d buffer" % (x0, y0, x1, y1, w, h))
+        gpu, ref = crop(w, h, c, gpu, x0, y0, x1, y1), crop(w, h, c, ref, x0, y0, x1, y1)
+        w, h = x1 - x0, y1 - y0
+    cols, rows = (int(args[2]), int(args[3])) if len(args) == 4 else (8, 5)
     mean = sum(ref) / len(ref)
     # Per pixel (rows from the bottom, as the file stores them): channel 0 of each buffer, the
     # channels' sums, and the squared difference summed over the channels.
