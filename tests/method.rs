@@ -977,21 +977,11 @@ fn triangles_cross_a_crease_between_facets_thirty_degrees_apart() {
     assert!(band_rms < 0.33, "the crease is not lit like its facets: per-pixel RMS deviation {band_rms:.3}");
 }
 
-/// Where the segment from `origin` along `dir` (t in [0, t_max]) enters the box `lo`–`hi`.
-fn ray_hits_box(origin: glam::Vec3, dir: glam::Vec3, t_max: f32, lo: glam::Vec3, hi: glam::Vec3) -> bool {
-    let (mut t0, mut t1) = (0.0f32, t_max);
-    for k in 0..3 {
-        if dir[k].abs() < 1e-9 {
-            if origin[k] < lo[k] || origin[k] > hi[k] {
-                return false;
-            }
-            continue;
-        }
-        let (a, b) = ((lo[k] - origin[k]) / dir[k], (hi[k] - origin[k]) / dir[k]);
-        t0 = t0.max(a.min(b));
-        t1 = t1.min(a.max(b));
-    }
-    t0 <= t1
+/// The camera ray through pixel (px, py) of a `size` target, as its points on the near and far
+/// planes (`inverse`: the inverse of `camera_view_proj`).
+fn pixel_ray(inverse: glam::Mat4, px: u32, py: u32, size: [u32; 2]) -> (glam::Vec3, glam::Vec3) {
+    let ndc = glam::Vec2::new((px as f32 + 0.5) / size[0] as f32, (py as f32 + 0.5) / size[1] as f32) * 2.0 - 1.0;
+    (inverse.project_point3(ndc.extend(0.0)), inverse.project_point3(ndc.extend(1.0)))
 }
 
 #[test]
@@ -1023,12 +1013,11 @@ fn a_shadow_edge_is_drawn_where_the_light_stops() {
     let (wd, ht) = (caustics.width, caustics.height);
     let inverse = camera_view_proj(&scene, [wd, ht]).inverse();
 
-    // The refracted light's direction under flat water.
-    let d = scene.light.direction;
-    let horizontal = glam::Vec3::new(d.x, 0.0, d.z);
-    let sin_t = horizontal.length() / scene.water.ior;
-    let refracted = (horizontal.normalize() * sin_t - glam::Vec3::Y * (1.0 - sin_t * sin_t).sqrt()).normalize();
-    let shadowed = |p: glam::Vec3| ray_hits_box(p, -refracted, 10.0, lo, hi);
+    // The refracted light under flat water, and the scene's own triangles (the reference's BVH):
+    // a floor point is in shadow when the ray back towards the light meets one.
+    let refracted = underlight::shader_math::refract(scene.light.direction, glam::Vec3::Y, 1.0 / scene.water.ior);
+    let bvh = underlight::bvh::Bvh::of_scene(&scene);
+    let shadowed = |p: glam::Vec3| bvh.occluded(p.as_dvec3(), -refracted.normalize().as_dvec3(), 1e-4, 10.0);
     // A floor point 1.5 pixels (7.5 mm) or more from the edge, on either side: all of its
     // neighbours that far away agree with it.
     let margin = 0.0075f32;
@@ -1040,16 +1029,12 @@ fn a_shadow_edge_is_drawn_where_the_light_stops() {
     let (mut dark, mut lit, mut lit_near_edge) = (Vec::new(), Vec::new(), Vec::new());
     for py in 0..ht {
         for px in 0..wd {
-            let ndc = glam::Vec2::new((px as f32 + 0.5) / wd as f32, (py as f32 + 0.5) / ht as f32) * 2.0 - 1.0;
-            let near = inverse.project_point3(ndc.extend(0.0));
-            let far = inverse.project_point3(ndc.extend(1.0));
-            let t = (-depth - near.y) / (far.y - near.y);
-            if !(0.0..1.0).contains(&t) {
-                continue;
-            }
-            let p = near + t * (far - near);
-            // Pixels that see the post, not the floor, are left out.
-            if ray_hits_box(near, far - near, t * 0.999, lo, hi) {
+            // What the pixel sees; only the floor counts (not the post).
+            let (near, far) = pixel_ray(inverse, px, py, [wd, ht]);
+            let dir = (far - near).normalize().as_dvec3();
+            let Some(hit) = bvh.closest(near.as_dvec3(), dir, 0.0, 100.0) else { continue };
+            let p = (near.as_dvec3() + hit.t * dir).as_vec3();
+            if (p.y + depth).abs() > 1e-3 {
                 continue;
             }
             let v = caustics.at(px, py)[0] as f64;
@@ -1133,9 +1118,7 @@ fn a_face_the_light_grazes_is_lit_up_to_its_edges_without_squares() {
     let mut rows = vec![Vec::new(); bands];
     for py in 0..ht {
         for px in 0..wd {
-            let ndc = glam::Vec2::new((px as f32 + 0.5) / wd as f32, (py as f32 + 0.5) / ht as f32) * 2.0 - 1.0;
-            let near = inverse.project_point3(ndc.extend(0.0));
-            let far = inverse.project_point3(ndc.extend(1.0));
+            let (near, far) = pixel_ray(inverse, px, py, [wd, ht]);
             let t = -near.z / (far.z - near.z);
             let p = near + t * (far - near);
             let up = p.y + depth;
