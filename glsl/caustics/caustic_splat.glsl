@@ -41,6 +41,13 @@ bool lit_side_faces_camera(vec3 hit, vec3 n, vec3 light_dir) {
     return dot(n, -light_dir) * dot(n, frame.camera_position - hit) > 0.0;
 }
 
+// The normal of the receiver at `hit`, from the light's normal map a photon found it in (the
+// second, steeper maps where `steep`); zero where `hit` lies outside that map.
+vec3 receiver_normal(vec3 hit, bool steep) {
+    ivec2 texel;
+    return light_texel(hit, steep, texel) ? normalize(map_normal(texel, steep) + 1e-6) : vec3(0.0);
+}
+
 // A square splat of `size` whole pixels centred on receiver point `hit`, spreading the
 // transmitted flux `flux` (W per channel, attenuation applied) over the receiver area its
 // pixels cover; false when it cannot touch the target. Shared by the paper's points and by
@@ -58,9 +65,8 @@ bool caustic_square(vec3 hit, bool steep, vec3 flux, float size, out CausticSpla
     if (any(greaterThan(abs(s.clip.xy), reach)) || s.clip.z < 0.0 || s.clip.z > s.clip.w) return false;
     vec3 to_hit = hit - frame.camera_position;
     float d_view = length(to_hit);
-    ivec2 texel;
-    vec3 n = vec3(0.0, 1.0, 0.0);
-    if (light_texel(hit, steep, texel)) n = normalize(map_normal(texel, steep) + 1e-6);
+    vec3 n = receiver_normal(hit, steep);
+    if (n == vec3(0.0)) n = vec3(0.0, 1.0, 0.0); // outside the map: a floor's
     float cos_view = abs(dot(n, to_hit / d_view));
     float cos_axis = s.clip.w / d_view;
     // The splat spreads the photon's flux over size² pixels, each covering pixel_world_area

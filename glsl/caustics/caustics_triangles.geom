@@ -122,13 +122,18 @@ void emit_square(CausticSplat s, float footprint) {
 // within 45° of a's, and b and c off a's tangent plane by under a quarter of their distance
 // from a. (Within 25°, the facets of the tank's rocks, 20–40° apart, refused their triangles,
 // and their photons drew squares; a wall and the floor, 90°, stay two receivers.)
+// Whether a photon that landed at `p` with receiver normal `n` lies on photon k's receiver:
+// normals within 45°, and off k's tangent plane by under a quarter of its distance from k.
+bool on_receiver_of(int k, vec3 p, vec3 n) {
+    if (dot(normal[k], n) < 0.7) return false;
+    vec3 d = p - hit[k];
+    return abs(dot(d, normal[k])) <= 0.25 * length(d);
+}
+
 bool one_receiver(int a, int b, int c) {
     if (!(landed[a] && landed[b] && landed[c])) return false;
     if (!(seen[a] && seen[b] && seen[c])) return false;
-    vec3 n = normal[a];
-    if (dot(n, normal[b]) < 0.7 || dot(n, normal[c]) < 0.7) return false;
-    vec3 ab = hit[b] - hit[a], ac = hit[c] - hit[a];
-    return abs(dot(ab, n)) <= 0.25 * length(ab) && abs(dot(ac, n)) <= 0.25 * length(ac);
+    return on_receiver_of(a, hit[b], normal[b]) && on_receiver_of(a, hit[c], normal[c]);
 }
 
 // Target pixels (the caustic target's) of a clip position in front of the camera.
@@ -299,15 +304,6 @@ void emit_triangle(int a, int b, int c) {
     EndPrimitive();
 }
 
-// Whether a photon that landed at `p` with receiver normal `n` lies on photon k's receiver:
-// one_receiver's test for a pair (normals within 45°, off k's tangent plane by under a quarter
-// of the distance).
-bool on_receiver_of(int k, vec3 p, vec3 n) {
-    if (dot(normal[k], n) < 0.7) return false;
-    vec3 d = p - hit[k];
-    return abs(dot(d, normal[k])) <= 0.25 * length(d);
-}
-
 // Bisections of a grid edge whose ends lie on different receivers, or of which one end did
 // not land (a shadow's edge, the water's): each casts a photon at the middle of the interval
 // left, and halves it. Without them a photon's handed-back flux reached half-way to its
@@ -347,10 +343,8 @@ void search_borders(int side, vec2 photons_per_axis) {
             float t = 0.5 * (inside + outside);
             Photon ph;
             bool on_it = false;
-            ivec2 texel;
-            if (cast_photon(mix(grid_uv[from], grid_uv[to], t), photons_per_axis, ph)
-                && light_texel(ph.hit, ph.steep_map, texel)) {
-                on_it = on_receiver_of(from, ph.hit, normalize(map_normal(texel, ph.steep_map) + 1e-6));
+            if (cast_photon(mix(grid_uv[from], grid_uv[to], t), photons_per_axis, ph)) {
+                on_it = on_receiver_of(from, ph.hit, receiver_normal(ph.hit, ph.steep_map)); // a zero normal is on none
                 // Where the other end landed too, the sample belongs to whichever end's plane
                 // it lies nearer: on_receiver_of alone drifts with the distance from `from`,
                 // and put the border between two facets 30° apart past their crease (+5 %
@@ -479,10 +473,8 @@ void main() {
             surface[k] = ph.surface;
             direction[k] = ph.direction;
             flux[k] = landed[k] ? ph.flux * water_transmittance(ph.travelled) : vec3(0.0);
-            ivec2 texel;
             steep[k] = ph.steep_map;
-            normal[k] = landed[k] && light_texel(ph.hit, ph.steep_map, texel)
-                ? normalize(map_normal(texel, ph.steep_map) + 1e-6) : vec3(0.0);
+            normal[k] = landed[k] ? receiver_normal(ph.hit, ph.steep_map) : vec3(0.0);
             clip[k] = frame.camera_view_proj * vec4(ph.hit, 1.0);
             seen[k] = landed[k] && lit_side_faces_camera(ph.hit, normal[k], ph.direction);
             returned[k] = vec3(0.0);
