@@ -50,12 +50,13 @@ def main():
     ref_sum = [sum(ref[p * c:(p + 1) * c]) for p in range(n)]
     lit_sums = [v for v in ref_sum if v > 0.0]
     threshold = 0.05 * sum(lit_sums) / max(len(lit_sums), 1)
-    deep_dark = [not v for v in near(lit, w, h, 2)]
+    near_lit = {k: near(lit, w, h, k) for k in (1, 2)}
+    deep_dark = [not v for v in near_lit[2]]
     spilled = sum(1 for p in range(n) if deep_dark[p] and sum(gpu[p * c:(p + 1) * c]) > threshold)
     print("lit more than 2 px inside the reference's dark: %d pixels of its %d" % (spilled, sum(deep_dark)))
     for k in (1, 2):
-        near_lit, near_dark = near(lit, w, h, k), near([not v for v in lit], w, h, k)
-        band = [a and b for a, b in zip(near_lit, near_dark)]
+        near_dark = near([not v for v in lit], w, h, k)
+        band = [a and b for a, b in zip(near_lit[k], near_dark)]
         in_band = sum(e for e, b in zip(error, band) if b)
         fixed = math.sqrt((total - in_band) / len(ref)) / mean_ref
         print("within %d px of an edge: %.1f %% of the pixels, %.1f %% of the squared error; "
