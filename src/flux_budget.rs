@@ -1,7 +1,9 @@
 //! Where the caustic photons' and the godray beams' flux goes (`underlight render
 //! --flux-budget`): of the light's power through each photon grid, how much lands on a
 //! receiver and how much each reason for dropping a photon costs; for the beams, also how much
-//! of their length the camera's view clips off. Read from the photon records of the geometry
+//! of their length the camera's view clips off; for the landed caustic photons, what the
+//! camera sees of them and how far each lies from the exact hit along its refracted ray. Read
+//! from the photon records of the geometry
 //! shaders' recording variants (`FrameOptions::record_photons`, `glsl/caustics/caustics.geom`,
 //! `glsl/godrays/godrays.geom`), so it is the GPU's own account, not a model of it.
 
@@ -101,6 +103,33 @@ pub struct PhotonsSeen {
     pub outside: Share,
 }
 
+/// Where the landed caustic photons lie against the exact hits along their own refracted
+/// rays (`FluxBudget::placed_by`): the image-space iteration against the light's position map
+/// (photon_cast.glsl) is the method's approximation of a ray cast, and the scene's triangles
+/// (the reference's BVH) give the ray cast itself. A record holds the photon's surface point
+/// and its hit, both on its refracted ray, so the two differ only in the distance along it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PhotonsPlaced {
+    /// Within `PLACED_CLOSE` of the exact hit.
+    pub close: Share,
+    /// Within `PLACED_NEAR`, farther than `PLACED_CLOSE`.
+    pub near: Share,
+    /// Farther than `PLACED_NEAR`.
+    pub off: Share,
+    /// The exact ray meets no triangle: a hit the light's maps hold and the scene does not.
+    pub on_nothing: Share,
+    /// Median distance from the exact hit over the photons that have one, m.
+    pub median_error: f64,
+}
+
+/// A photon within this of its exact hit counts as placed, m: under the built-in scenes'
+/// spacing between photons (13 mm on the tank's floor at 100² × 3²) and a few of the light
+/// maps' texels (4–5 mm at 1024²), whose plane the iteration's last step lands on.
+pub const PLACED_CLOSE: f64 = 0.01;
+/// Farther than this a photon lights a different place: several photon spacings, or another
+/// facet of a rock.
+pub const PLACED_NEAR: f64 = 0.05;
+
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FluxBudget {
     pub cast: u64,
@@ -122,6 +151,8 @@ pub struct FluxBudget {
     pub view: Option<BeamsInView>,
     /// The landed caustic photons as the camera sees them; None until `seen_by`.
     pub seen: Option<PhotonsSeen>,
+    /// The landed caustic photons against their exact hits; None until `placed_by`.
+    pub placed: Option<PhotonsPlaced>,
 }
 
 impl FluxBudget {
@@ -196,6 +227,42 @@ impl FluxBudget {
             share.add(flux);
         }
         self.seen = Some(seen);
+    }
+
+    /// Sorts the landed caustic photons of `records` (`from_records`' input) by how far their
+    /// hit lies from the first of the scene's triangles (`bvh`) along the same refracted ray,
+    /// traced from where the photon entered the water.
+    pub fn placed_by(&mut self, records: &[[f32; 4]], bvh: &crate::bvh::Bvh) {
+        let mut placed = PhotonsPlaced::default();
+        let mut errors = Vec::new();
+        for pair in records.chunks_exact(2) {
+            if !(0.5..1.5).contains(&pair[0][3]) {
+                continue;
+            }
+            let hit = Vec3::from_slice(&pair[0][..3]).as_dvec3();
+            let (surface, flux) = (Vec3::from_slice(&pair[1][..3]).as_dvec3(), pair[1][3] as f64);
+            let travelled = surface.distance(hit);
+            let exact = (travelled > 0.0)
+                .then(|| bvh.closest(surface, (hit - surface) / travelled, 1e-4, f64::INFINITY))
+                .flatten();
+            let Some(exact) = exact else {
+                placed.on_nothing.add(flux);
+                continue;
+            };
+            let error = (travelled - exact.t).abs();
+            errors.push(error);
+            let share = if error <= PLACED_CLOSE {
+                &mut placed.close
+            } else if error <= PLACED_NEAR {
+                &mut placed.near
+            } else {
+                &mut placed.off
+            };
+            share.add(flux);
+        }
+        errors.sort_by(f64::total_cmp);
+        placed.median_error = errors.get(errors.len() / 2).copied().unwrap_or(0.0);
+        self.placed = Some(placed);
     }
 
     /// Flux of all dropped photons, W.
@@ -311,6 +378,17 @@ impl fmt::Display for FluxBudget {
                 writeln!(f, "{:<44} {:>10} {:>12.5} {:>6.2}%", what, share.photons, share.watts, pct(share.watts))?;
             }
         }
+        if let Some(p) = &self.placed {
+            for (what, share) in [
+                (format!("landed within {} cm of the exact hit", PLACED_CLOSE * 100.0), p.close),
+                (format!("landed {}-{} cm from it", PLACED_CLOSE * 100.0, PLACED_NEAR * 100.0), p.near),
+                (format!("landed farther than {} cm from it", PLACED_NEAR * 100.0), p.off),
+                ("landed where the exact ray meets nothing".to_owned(), p.on_nothing),
+            ] {
+                writeln!(f, "{:<44} {:>10} {:>12.5} {:>6.2}%", what, share.photons, share.watts, pct(share.watts))?;
+            }
+            writeln!(f, "median distance of a landed photon from its exact hit: {:.3} mm", 1000.0 * p.median_error)?;
+        }
         if let Some(v) = self.view {
             let weight = v.in_view + v.clipped;
             let share = |x: f64| if weight > 0.0 { 100.0 * x / weight } else { 0.0 };
@@ -390,6 +468,38 @@ mod tests {
         assert_eq!((s.hidden.photons, s.hidden.watts), (1, 4.0));
         assert_eq!((s.outside.photons, s.outside.watts), (2, 24.0));
         assert!(b.to_string().contains("landed where the scene hides it"));
+    }
+
+    #[test]
+    fn landed_photons_are_placed_against_the_exact_hit_along_their_ray() {
+        // A floor at y = 0 under x, z ∈ [−10, 10]; photons enter the water 2 m above it.
+        let floor = [
+            [[-10.0, 0.0, -10.0], [10.0, 0.0, -10.0], [10.0, 0.0, 10.0]].map(glam::DVec3::from),
+            [[-10.0, 0.0, -10.0], [10.0, 0.0, 10.0], [-10.0, 0.0, 10.0]].map(glam::DVec3::from),
+        ];
+        let bvh = crate::bvh::Bvh::build(floor);
+        let photon = |surface: [f32; 3], hit: [f32; 3], fate: f32, flux: f32| {
+            [[hit[0], hit[1], hit[2], fate], [surface[0], surface[1], surface[2], flux]]
+        };
+        let records: Vec<[f32; 4]> = [
+            photon([0.0, 2.0, 0.0], [0.0, 0.0, 0.0], 1.0, 1.0),    // on the floor
+            photon([0.0, 2.0, 0.0], [0.0, 0.004, 0.0], 1.0, 2.0),  // 4 mm short of it
+            photon([1.0, 2.0, 0.0], [1.5, 0.02, 0.0], 1.0, 4.0),   // 2 cm of its 2.06 m ray short
+            photon([0.0, 2.0, 0.0], [0.0, -0.2, 0.0], 1.0, 8.0),   // 20 cm past it
+            photon([20.0, 2.0, 0.0], [20.0, 0.0, 0.0], 1.0, 16.0), // beside the floor: nothing there
+            photon([0.0, 2.0, 0.0], [0.0, 1.0, 0.0], -7.0, 32.0),  // dropped: not placed
+        ]
+        .concat();
+        let mut b = FluxBudget::from_records(&records);
+        b.placed_by(&records, &bvh);
+        let p = b.placed.clone().unwrap();
+        assert_eq!((p.close.photons, p.close.watts), (2, 3.0));
+        assert_eq!((p.near.photons, p.near.watts), (1, 4.0));
+        assert_eq!((p.off.photons, p.off.watts), (1, 8.0));
+        assert_eq!((p.on_nothing.photons, p.on_nothing.watts), (1, 16.0));
+        // Errors 0, 4 mm, ~2 cm, 20 cm: the median is the third smallest.
+        assert!((p.median_error - 0.0206).abs() < 1e-3, "{}", p.median_error);
+        assert!(b.to_string().contains("landed within 1 cm of the exact hit"));
     }
 
     #[test]

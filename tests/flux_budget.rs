@@ -42,10 +42,11 @@ fn every_photon_and_watt_is_accounted_for() {
         let mut budget = FluxBudget::from_records(&records);
         let camera = glam::Vec3::from(u.camera_position);
         let view_proj = glam::Mat4::from_cols_array_2d(&u.camera_view_proj);
-        budget.seen_by(&records, view_proj, camera, &underlight::bvh::Bvh::of_scene(&scene));
+        let bvh = underlight::bvh::Bvh::of_scene(&scene);
+        budget.seen_by(&records, view_proj, camera, &bvh);
+        budget.placed_by(&records, &bvh);
         let power = underlight::flux_budget::grid_power(&u).expect("the built-in scenes' light is directional");
         eprintln!("{name}:\n{budget}");
-        let bvh = underlight::bvh::Bvh::of_scene(&scene);
         let survey = underlight::frame::photon_density::view_adapted(&scene, scene.bounds(), &bvh, &u, None);
         let k = survey.caustics.expect("the scene is in view").grid_aspect;
         let (_, cells) = underlight::shader_math::caustic_grid_cell(glam::UVec2::ZERO, 48, k);
@@ -77,6 +78,14 @@ fn every_photon_and_watt_is_accounted_for() {
         // (at the shipped 1024² maps), most of it beside shadow edges and on walls.
         let lost = budget.dropped[DropReason::NotConverged as usize - 1].watts / power;
         assert!(lost < 0.006, "{name}: {:.2} % of the grid's power does not converge", 100.0 * lost);
+        // The image-space iteration places the landed photons where a ray cast along their
+        // refracted rays through the scene's triangles does. Measured at these settings (512²
+        // maps): 99.1 % (tank), 99.8 % (port), 98.6 % (storage) of the landed flux within
+        // 1 cm of the exact hit. Without the iteration's last step onto the receiver's plane
+        // at its texel (photon_cast.glsl's onto_receiver_plane), the tank reads 89.5 %.
+        let placed = budget.placed.clone().expect("placed against the BVH");
+        let close = placed.close.watts / budget.landed.watts;
+        assert!(close > 0.98, "{name}: {:.2} % of the landed flux within 1 cm of its exact hit", 100.0 * close);
         // Every landed photon is seen, hidden or out of view; and the scenes spread their
         // photons for the view (caustic_photon_density = "view"), so the photons the camera
         // sees are a larger share of the landed photons than their flux is of the landed flux

@@ -42,7 +42,9 @@ pub(super) struct SceneArgs {
     explain: bool,
     /// Also render one frame recording every caustic photon (the paper's points, the same
     /// photons) and every godray beam, and print where their flux goes: landed (drawn),
-    /// reflected, dropped by reason; for the beams, the share of their length in view.
+    /// reflected, dropped by reason; for the landed photons, what the camera sees of them
+    /// and how far each lies from the exact hit along its refracted ray (the scene's
+    /// triangles); for the beams, the share of their length in view.
     #[arg(long)]
     flux_budget: bool,
     /// Put the camera here instead of the scene's position, e.g. `0.3,1.5,0.2` (above the
@@ -230,7 +232,9 @@ fn print_flux_budget(ctx: &Context, scene: &underlight::scene::Scene, extent: vk
         budget.light_power = grid_power(&u);
         let view_proj = glam::Mat4::from_cols_array_2d(&u.camera_view_proj);
         let camera = glam::Vec3::from(u.camera_position);
-        budget.seen_by(records, view_proj, camera, &underlight::bvh::Bvh::of_scene(scene));
+        let bvh = underlight::bvh::Bvh::of_scene(scene);
+        budget.seen_by(records, view_proj, camera, &bvh);
+        budget.placed_by(records, &bvh);
         println!("{budget}");
         printed = true;
     }
