@@ -985,6 +985,81 @@ fn pixel_ray(inverse: glam::Mat4, px: u32, py: u32, size: [u32; 2]) -> (glam::Ve
 }
 
 #[test]
+fn the_mesh_reaches_the_water_s_edges() {
+    // Under flat water and a zenith sun, the floor below the water is lit evenly right up to
+    // the water's edges, and the photon window is the water's footprint. The grid's photons
+    // lie at its cells' centres, half a cell inside the window, so the triangles' mesh needs
+    // cells beyond its first row and column (the ring of `mesh_cell` in
+    // caustics_triangles.geom) to reach the window's low edges. Measured on lavapipe, the
+    // floor within half a cell of the −x, +x, −z, +z edges against the interior: even grid
+    // 0.998 / 1.002 / 0.998 / 1.002, without the ring 0.998 / 0.000 / 0.998 / 0.000; spread
+    // for the view 0.862 / 0.860 / 1.120 / 1.139, without the ring 0.866 / 0.030 / 1.125 /
+    // 0.000. (The view's ±14 % is its warp's: the survey's density changes steeply at the
+    // window's edges, and a triangle across a knot carries its corners' mean flux over its own
+    // area.)
+    let depth = FLOOR_DEPTH;
+    let half = 0.5f32;
+    for spread in [underlight::scene::PhotonSpread::Even, underlight::scene::PhotonSpread::View] {
+        let mut scene = pool_with(0.0, CausticEstimator::Triangles, 320);
+        scene.water.extent_min = glam::Vec2::splat(-half);
+        scene.water.extent_max = glam::Vec2::splat(half);
+        // 24 photons across the metre of water: cells of 4.2 cm, 6.4 pixels on the floor.
+        scene.effects.caustic_grid = 8;
+        scene.effects.caustic_subdivision = 3;
+        scene.effects.caustic_photon_density = spread;
+        scene.camera.position = glam::Vec3::new(0.0, -0.2, 0.0);
+        scene.camera.look_at = glam::Vec3::new(0.0, -depth, 0.0);
+        let (images, _) = render(&scene);
+        let caustics = images.caustics.expect("caustics");
+        assert!(!caustics.has_non_finite());
+        let (wd, ht) = (caustics.width, caustics.height);
+        let inverse = camera_view_proj(&scene, [wd, ht]).inverse();
+        let cell = 2.0 * half / 24.0;
+        // Per edge (−x, +x, −z, +z): the floor between 0.3 and 0.9 of half a cell inside it,
+        // away from the other edges; and the interior, a cell or more inside all four.
+        let (mut band, mut interior) = ([(0.0f64, 0usize); 4], (0.0f64, 0usize));
+        for py in 0..ht {
+            for px in 0..wd {
+                let (near, far) = pixel_ray(inverse, px, py, [wd, ht]);
+                let t = (-depth - near.y) / (far.y - near.y);
+                let p = near + t * (far - near);
+                let inside = [p.x + half, half - p.x, p.z + half, half - p.z];
+                if inside.iter().any(|&d| d <= 0.0) {
+                    continue;
+                }
+                let v = caustics.at(px, py)[0] as f64;
+                let nearest = (0..4).min_by(|&a, &b| inside[a].total_cmp(&inside[b])).unwrap();
+                let d = inside[nearest] / (0.5 * cell);
+                let others_far = (0..4).all(|e| e == nearest || inside[e] > cell);
+                if (0.3..0.9).contains(&d) && others_far {
+                    band[nearest].0 += v;
+                    band[nearest].1 += 1;
+                } else if inside.iter().all(|&d| d > cell) {
+                    interior.0 += v;
+                    interior.1 += 1;
+                }
+            }
+        }
+        let interior_mean = interior.0 / interior.1 as f64;
+        let ratios: Vec<f64> = band.iter().map(|&(sum, n)| sum / n.max(1) as f64 / interior_mean).collect();
+        eprintln!(
+            "{spread:?}: the floor within half a photon cell of the water's edges (−x, +x, −z, +z): {ratios:.3?} of \
+             the interior's light ({} interior pixels, {:?} per band)",
+            interior.1,
+            band.map(|b| b.1)
+        );
+        let allowed = if spread == underlight::scene::PhotonSpread::Even { 0.05 } else { 0.2 };
+        for (edge, (&ratio, count)) in ["−x", "+x", "−z", "+z"].iter().zip(ratios.iter().zip(band.map(|b| b.1))) {
+            assert!(count > 100, "{spread:?}: {count} pixels along the {edge} edge");
+            assert!(
+                (ratio - 1.0).abs() < allowed,
+                "{spread:?}: along the {edge} edge the floor gets {ratio:.3} of the interior's light"
+            );
+        }
+    }
+}
+
+#[test]
 fn a_shadow_edge_is_drawn_where_the_light_stops() {
     // A post in the pool under flat water and an oblique sun: a floor point is in its shadow
     // when the refracted light's ray back from it meets the post, so the shadow's edge is

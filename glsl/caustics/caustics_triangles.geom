@@ -56,7 +56,7 @@
 
 const float SLIVER_PIXELS = 1.0; // px²; see above (a footprint's side is at most a pixel)
 const float THIN_SLIVER_LENGTH = 1.5; // px: a sliver longer than this is drawn along its length
-const float FOOTPRINT_MAX_EDGE = 32.0; // px: the longest edge a handed-back photon's cell is drawn with
+const float FOOTPRINT_MAX_EDGE = 64.0; // px: the longest edge a handed-back photon's cell is drawn with
 const int MAX_SIDE = TRIANGLE_MAX_SUBDIVISION + 1;  // photons per axis an invocation casts
 const int MAX_PHOTONS = MAX_SIDE * MAX_SIDE;
 
@@ -449,20 +449,52 @@ bool split_along_p00_p11(int p00, int p10, int p01, int p11) {
     return dot(d00_11, d00_11) < dot(d10_01, d10_01);
 }
 
+// The coarse cell whose mesh this invocation draws. The grid's own N/k × N·k cells first
+// (caustic_grid_cell: on the storage, whose corridor is narrow across the photon window and
+// long along it, a square grid's mesh cells were 2.2× longer one way than the other on
+// screen). Then, for the invocations past them, a ring of cells at −1 before the grid's first
+// row and column: the mesh cells between the grid's first photons (index 0), which lie half a
+// cell inside the photon window, and photons half a cell outside it (index −1). Without them
+// the light between the first photons and the window's low edges was drawn by nobody (along
+// the storage's far wall, where the water reaches that edge, a band below the water line
+// stayed dark; docs/accuracy.md, "The mesh to the photon window's edges"). The pass draws
+// enough invocations for the ring (passes/caustics.rs, `mesh_invocations`). False for an
+// invocation past both.
+bool mesh_cell(uvec2 invocation, uint grid, out ivec2 cell, out uvec2 cells) {
+    uvec2 grid_cell;
+    if (caustic_grid_cell(invocation, grid, grid_cell, cells)) {
+        cell = ivec2(grid_cell);
+        return true;
+    }
+    uint ring = invocation.y * grid + invocation.x - cells.x * cells.y;
+    if (ring <= cells.x) cell = ivec2(int(ring) - 1, -1);                        // row −1, columns −1 … N/k − 1
+    else cell = ivec2(-1, int(ring - cells.x - 1u));                             // column −1, rows 0 … N·k − 1
+    return cell.y < int(cells.y);
+}
+
+// Whether this invocation draws mesh cell (i, j) of its photons: all of them in the grid's
+// own cells; in the ring's, only those from its photons at −1 (the others are the grid's).
+bool mesh_cell_drawn(ivec2 cell, int i, int j) {
+    return (cell.x >= 0 || i == 0) && (cell.y >= 0 || j == 0);
+}
+
 void main() {
     int side = int(SUBDIVISION) + 1;
-    // The coarse grid is N/k × N·k cells (caustic_grid_cell): on the storage, whose corridor
-    // is narrow across the photon window and long along it, a square grid's mesh cells were
-    // 2.2× longer one way than the other on screen.
-    uvec2 cell, cells;
-    if (!caustic_grid_cell(v_cell[0], pc.grid, cell, cells)) return;
+    ivec2 cell;
+    uvec2 cells;
+    if (!mesh_cell(v_cell[0], pc.grid, cell, cells)) return;
     vec2 photons_per_axis = vec2(cells * SUBDIVISION);
+    // Along an axis where the cell is the ring's, the invocation's photons start at −1, so that
+    // the grid's first photon has its neighbours on both sides for its cell's edges
+    // (footprint_edge); only the mesh cells from −1 are drawn there (mesh_cell_drawn).
+    ivec2 first = ivec2(cell.x < 0 ? -1 : cell.x * int(SUBDIVISION), cell.y < 0 ? -1 : cell.y * int(SUBDIVISION));
     for (int j = 0; j < side; ++j) {
         for (int i = 0; i < side; ++i) {
             int k = j * side + i;
             // Sub-cell SUBDIVISION is the neighbour cell's first photon, at the same bits as
-            // the neighbour casts it (caustic_grid_photon_uv).
-            vec2 uv = caustic_grid_photon_uv(cell, uvec2(i, j), SUBDIVISION, photons_per_axis);
+            // the neighbour casts it (caustic_grid_photon_uv, whose float arithmetic this
+            // repeats for the ring's photons at −1).
+            vec2 uv = (vec2(first + ivec2(i, j)) + 0.5) / photons_per_axis;
             Photon ph;
             grid_uv[k] = uv;
             border_u[k] = -1.0;
@@ -490,6 +522,7 @@ void main() {
     // shorter diagonal (split_along_p00_p11).
     for (int j = 0; j + 1 < side; ++j) {
         for (int i = 0; i + 1 < side; ++i) {
+            if (!mesh_cell_drawn(cell, i, j)) continue;
             int p00 = j * side + i, p10 = p00 + 1, p01 = p00 + side, p11 = p01 + 1;
             if (split_along_p00_p11(p00, p10, p01, p11)) {
                 gather_triangle(p00, p10, p11, QUARTER_PLUS_U_PLUS_V, QUARTER_MINUS_U_PLUS_V, QUARTER_MINUS_U_MINUS_V);
@@ -502,6 +535,7 @@ void main() {
     }
     for (int j = 0; j + 1 < side; ++j) {
         for (int i = 0; i + 1 < side; ++i) {
+            if (!mesh_cell_drawn(cell, i, j)) continue;
             int p00 = j * side + i, p10 = p00 + 1, p01 = p00 + side, p11 = p01 + 1;
             if (split_along_p00_p11(p00, p10, p01, p11)) {
                 emit_triangle(p00, p10, p11);

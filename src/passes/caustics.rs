@@ -47,6 +47,10 @@ struct SplatFloor {
 pub struct CausticsPass {
     pub path: PhotonPath,
     pub estimator: CausticEstimator,
+    /// The pipeline is the triangles' (caustics_triangles.geom), which meshes a ring of cells
+    /// besides the grid's own (`mesh_invocations`); not when recording photons, which go
+    /// through the points' recording variant.
+    draws_triangles: bool,
     pub grid: u32,
     pub subdivision: u32,
     /// With photon recording on: two vec4 per photon, (hit, 1 if landed else −drop reason)
@@ -62,6 +66,15 @@ pub struct CausticsPass {
     /// This pass's descriptor sets (`passes::photon_set_index`), written by the frame.
     pub sets: DescriptorSets,
     device: Arc<Device>,
+}
+
+/// Invocations of the triangles' geometry shader for a grid of `grid`² coarse cells: the
+/// grid's own cells, shaped N/k × N·k (`shader_math::caustic_grid_cell`), then a ring of
+/// N/k + N·k + 1 cells before its first row and column (`mesh_cell` in
+/// caustics_triangles.geom). The survey keeps k within 1/2..2 (`photon_density`'s
+/// GRID_ASPECT_MAX), so the ring holds at most 2.5·N + 2 cells.
+fn mesh_invocations(grid: u32) -> u32 {
+    grid * grid + 3 * grid + 2
 }
 
 impl CausticsPass {
@@ -200,6 +213,7 @@ impl CausticsPass {
         Ok(Self {
             path,
             estimator,
+            draws_triangles: triangles && !record_photons,
             grid,
             subdivision,
             photon_records,
@@ -249,6 +263,7 @@ impl CausticsPass {
         self.pipeline.bind(cmd, set);
         self.pipeline.push(cmd, &grid);
         let vertices = match self.path {
+            PhotonPath::GeometryShader if self.draws_triangles => mesh_invocations(self.grid),
             PhotonPath::GeometryShader => self.grid * self.grid,
             _ => self.photons() as u32,
         };
