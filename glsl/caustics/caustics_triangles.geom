@@ -6,9 +6,14 @@
 // triangles on the receivers. A triangle carries the flux of its light-space area over its
 // receiver area, so the target holds the irradiance of the refracted wavefront: no gaps
 // where photons spread, no blur where they focus, folds add up.
-//   - Each photon lends a sixth of its flux to each of the six triangles it is a corner of
-//     (a triangle's flux is the sum of its corners' over six), so the mesh carries the flux
-//     the paper's points would.
+//   - A triangle carries the light through its own area of the photon window: that area
+//     (between the places its corners were cast, after the view's warp) times its corners'
+//     mean flux density (Photon::flux_density: the light's, the surface's transmittance,
+//     the water's attenuation to each hit). On the even grid that is a sixth of each corner's
+//     flux, so the mesh carries the flux the paper's points would. On a grid warped for the
+//     view it is also exact where the warp's slope changes, where a sixth of each corner's
+//     flux (its cell measured across the change) lit flat water 14 % too dark or too bright
+//     along the window's edges (tests/method.rs, the_mesh_reaches_the_water_s_edges).
 //   - A folded triangle (flipped by a caustic) keeps |area|.
 //   - Irradiance is per vertex, interpolated across the triangle, as the survey advises: a
 //     photon's is the flux over the area of the drawn triangles around it (those of this
@@ -79,7 +84,10 @@ layout(location = 0) out vec4 g_irradiance;
 
 // The invocation's photons, row by row, SUBDIVISION + 1 per row.
 vec3 hit[MAX_PHOTONS];
-vec3 flux[MAX_PHOTONS];      // transmitted and attenuated to the hit, W per channel; 0: dropped
+// Transmitted and attenuated to the hit, W per channel per unit of the photon window's uv
+// area (Photon::flux_density); 0: dropped.
+vec3 flux_density[MAX_PHOTONS];
+vec2 window_uv[MAX_PHOTONS]; // where in the photon window it was cast (Photon::window_uv)
 vec3 normal[MAX_PHOTONS];    // the receiver's, from the light's normal map
 vec4 clip[MAX_PHOTONS];
 vec3 surface[MAX_PHOTONS];   // where its ray entered the water, and its refracted direction:
@@ -161,20 +169,32 @@ float triangle_pixels(int a, int b, int c) {
 const int QUARTER_MINUS_U_MINUS_V = 1, QUARTER_PLUS_U_MINUS_V = 2,
           QUARTER_MINUS_U_PLUS_V = 4, QUARTER_PLUS_U_PLUS_V = 8;
 
+// The photon window's uv area between the places where photons a, b, c were cast.
+float window_area(int a, int b, int c) {
+    vec2 u = window_uv[b] - window_uv[a], v = window_uv[c] - window_uv[a];
+    return 0.5 * abs(u.x * v.y - u.y * v.x);
+}
+
+// The light through triangle (a, b, c): its window area times its corners' mean flux density.
+vec3 triangle_flux(int a, int b, int c) {
+    return (flux_density[a] + flux_density[b] + flux_density[c]) * (window_area(a, b, c) / 3.0);
+}
+
 // First pass over a triangle: a triangle on one receiver lends its flux and area to its
 // corners' irradiance; one that spans a discontinuity hands its flux back to them, and marks
 // the quarter of each corner's cell it lies in (qa, qb, qc).
 void gather_triangle(int a, int b, int c, int qa, int qb, int qc) {
     if (!one_receiver(a, b, c)) {
-        returned[a] += flux[a] / 6.0;
-        returned[b] += flux[b] / 6.0;
-        returned[c] += flux[c] / 6.0;
+        float third = window_area(a, b, c) / 3.0;
+        returned[a] += flux_density[a] * third;
+        returned[b] += flux_density[b] * third;
+        returned[c] += flux_density[c] * third;
         returned_quadrants[a] |= qa;
         returned_quadrants[b] |= qb;
         returned_quadrants[c] |= qc;
         return;
     }
-    vec3 share = (flux[a] + flux[b] + flux[c]) / 6.0;
+    vec3 share = triangle_flux(a, b, c);
     float area = triangle_area(a, b, c);
     around_flux[a] += share; around_flux[b] += share; around_flux[c] += share;
     around_area[a] += area; around_area[b] += area; around_area[c] += area;
@@ -274,7 +294,7 @@ void emit_triangle(int a, int b, int c) {
     float pixels = triangle_pixels(a, b, c);
     if (pixels < SLIVER_PIXELS || !(area > 1e-12)) {
         CausticSplat s;
-        vec3 share = (flux[a] + flux[b] + flux[c]) / 6.0;
+        vec3 share = triangle_flux(a, b, c);
         if (caustic_square((hit[a] + hit[b] + hit[c]) / 3.0, steep[a], share, 1.0, s)) {
             // The receiver area one pixel covers, exactly: the triangle's own world area
             // over its pixels. (caustic_square's estimate bounds cos θ_view by 0.2, which
@@ -293,7 +313,7 @@ void emit_triangle(int a, int b, int c) {
         return;
     }
     vec3 ea = photon_irradiance(a), eb = photon_irradiance(b), ec = photon_irradiance(c);
-    vec3 flat_e = (flux[a] + flux[b] + flux[c]) / (6.0 * area * frame.surface_irradiance);
+    vec3 flat_e = triangle_flux(a, b, c) / (area * frame.surface_irradiance);
     vec3 mean_e = (ea + eb + ec) / 3.0;
     vec3 scale = flat_e / max(mean_e, vec3(1e-30));
     ea *= scale; eb *= scale; ec *= scale;
@@ -504,7 +524,8 @@ void main() {
             cell_scale[k] = ph.cell_scale;
             surface[k] = ph.surface;
             direction[k] = ph.direction;
-            flux[k] = landed[k] ? ph.flux * water_transmittance(ph.travelled) : vec3(0.0);
+            flux_density[k] = landed[k] ? ph.flux_density * water_transmittance(ph.travelled) : vec3(0.0);
+            window_uv[k] = ph.window_uv;
             steep[k] = ph.steep_map;
             normal[k] = landed[k] ? receiver_normal(ph.hit, ph.steep_map) : vec3(0.0);
             clip[k] = frame.camera_view_proj * vec4(ph.hit, 1.0);

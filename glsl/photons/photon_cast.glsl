@@ -23,6 +23,11 @@ struct Photon {
     float travelled;  // |p_i − p_s|, m
     float cell_scale; // its grid cell's area over the even grid's (photon_density_warp; 1 unwarped)
     bool steep_map;   // its hit was found in the second, steeper maps (its receiver's normal is there)
+    vec2 window_uv;   // where in the photon window it was cast, after the warp ([0, 1]² inside)
+    // W per unit of the window's uv area that it carries (after the surface, like flux):
+    // its flux over its warped cell's area, kept apart because a cell wholly outside the window
+    // has none (the caustic triangles' ring, caustics_triangles.geom).
+    float flux_density;
 };
 
 // The photon grid's warp (frame::photon_density; Rust twin shader_math::photon_density_warp):
@@ -234,6 +239,8 @@ bool cast_photon(vec2 uv, vec2 photons_per_axis, out Photon ph) {
     ph.surface = vec3(0.0); ph.direction = vec3(0.0); ph.hit = vec3(0.0); ph.flux = 0.0; ph.travelled = 0.0;
     ph.cell_scale = 1.0;
     ph.steep_map = false;
+    ph.window_uv = vec2(0.0);
+    ph.flux_density = 0.0;
     photon_fate = PHOTON_LANDED;
     // The grid covers the water's footprint in the light's window, not the whole window.
     // Shifted by this frame's sub-cell offset (effects.photon_jitter; zero without it), and
@@ -241,6 +248,7 @@ bool cast_photon(vec2 uv, vec2 photons_per_axis, out Photon ph) {
     // godray_photon_density; the identity without).
     uv += frame.photon_jitter / photons_per_axis;
     if (DENSITY_WARPED > 0.0) uv = photon_density_warp(uv, 0.5 / photons_per_axis, ph.cell_scale);
+    ph.window_uv = uv;
     uv = frame.photon_window_min + uv * frame.photon_window_size;
     vec2 ndc = uv * 2.0 - 1.0;
     vec4 a = frame.light_inv_view_proj * vec4(ndc, 0.0, 1.0);
@@ -260,6 +268,8 @@ bool cast_photon(vec2 uv, vec2 photons_per_axis, out Photon ph) {
         float c = max(dot(d, frame.light_axis), 0.0);
         flux = frame.light_strength * 4.0 * frame.light_half_extent.x * frame.light_half_extent.y / n2 * c * c * c;
     }
+    // An even cell is 1 / (photons_per_axis.x · photons_per_axis.y) of the window's uv area.
+    ph.flux_density = flux * photons_per_axis.x * photons_per_axis.y;
     flux *= ph.cell_scale;
     ph.flux = flux;
 
@@ -313,7 +323,9 @@ bool cast_photon(vec2 uv, vec2 photons_per_axis, out Photon ph) {
     ph.surface = ps;
     ph.direction = rt;
     ph.hit = hit;
-    ph.flux = flux * fresnel_transmittance(cos_i, w.ior);
+    float transmitted = fresnel_transmittance(cos_i, w.ior);
+    ph.flux = flux * transmitted;
+    ph.flux_density *= transmitted;
     ph.travelled = dist;
     bool finite = !(any(isnan(hit)) || any(isinf(hit)) || isnan(ph.flux) || isinf(ph.flux));
     if (photon_fate == PHOTON_LANDED && !finite) photon_fate = PHOTON_NOT_FINITE;
