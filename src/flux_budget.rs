@@ -3,9 +3,9 @@
 //! receiver and how much each reason for dropping a photon costs; for the beams, also how much
 //! of their length the camera's view clips off; for the landed caustic photons, what the
 //! camera sees of them and how far each lies from the exact hit along its refracted ray. Read
-//! from the photon records of the geometry
-//! shaders' recording variants (`FrameOptions::record_photons`, `glsl/caustics/caustics.geom`,
-//! `glsl/godrays/godrays.geom`), so it is the GPU's own account, not a model of it.
+//! from the photon records of the geometry shaders' recording variants
+//! (`FrameOptions::record_photons`, `glsl/caustics/caustics.geom`, `glsl/godrays/godrays.geom`),
+//! so it is the GPU's own account, not a model of it.
 
 use glam::{Mat4, Vec3};
 use std::fmt;
