@@ -36,8 +36,8 @@
 //     parallelogram its grid neighbours' refracted rays span on that plane, the photon
 //     differential, which needs their rays, not their hits. Towards a neighbour on another
 //     receiver, or one that did not land, the cell reaches to where its receiver ends,
-//     found by bisecting the grid edge between them (search_borders), not half-way. Where that cannot be had (no
-//     neighbour refracted), a square the size of its footprint or of the paper's points,
+//     found by bisecting the grid edge between them (search_borders), not half-way. Where
+//     that cannot be had (no neighbour refracted), a square the size of its footprint or of the paper's points,
 //     whichever is smaller. (Squares everywhere were the tank's most visible flaw: dots of
 //     light on its ledge, its cube's face and its rocks, where the light grazes a face and
 //     a row or two of photons lands on it. Drawn as cells, they are the reference's faint
@@ -332,10 +332,18 @@ void emit_triangle(int a, int b, int c) {
 const int BORDER_BISECTIONS = 3;
 const int MAX_EDGES = 2 * MAX_SIDE * (MAX_SIDE - 1);
 
+// Whether photon k draws a cell of handed-back flux (main's last loop): the camera sees its
+// receiver's lit side, and a triangle around it was refused.
+bool draws_cell(int k) {
+    return seen[k] && any(notEqual(returned[k], vec3(0.0)));
+}
+
 // Whether grid edge k → m crosses a receiver's border that a drawn photon's cell reaches:
-// an end the camera sees the lit side of, and the other end off its receiver.
+// an end that draws a cell (the others never read the border: the ring's photons past the
+// grid's first, whose mesh cells its own invocations draw), and the other end off its
+// receiver.
 bool edge_crosses_border(int k, int m) {
-    if (!(seen[k] || seen[m])) return false;
+    if (!(draws_cell(k) || draws_cell(m))) return false;
     if (!(landed[k] && landed[m])) return true;
     return !on_receiver_of(k, hit[m], normal[m]);
 }
@@ -569,7 +577,7 @@ void main() {
     }
     search_borders(side, photons_per_axis);
     for (int k = 0; k < side * side; ++k) {
-        if (!seen[k] || all(equal(returned[k], vec3(0.0)))) continue;
+        if (!draws_cell(k)) continue;
         int i = k % side, j = k / side;
         vec3 du, dv;
         int minus_u = i > 0 ? k - 1 : -1, plus_u = i + 1 < side ? k + 1 : -1;
