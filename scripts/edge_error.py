@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """How much of a GPU caustic buffer's error lies at the edges of the reference's lit regions
 (shadow edges, silhouettes, a receiver's rim), and how many pixels the GPU lights well inside
-the reference's shadows (cells reaching past a receiver's border). A pixel is in the band of width k when the
-reference lights a pixel within k pixels of it (Chebyshev distance) and leaves another one
-dark; lit means any channel above zero, which is exact for the reference's photon gathering.
+the reference's shadows (cells reaching past a receiver's border). A pixel is in the band of
+width k when the reference lights a pixel within k pixels of it (Chebyshev distance) and
+leaves another one dark; lit means any channel above zero, which is exact for the reference's photon gathering.
 It prints the squared error's share where one of the two buffers is dark and the other lit,
 and for k = 1 and 2 the band's share of the pixels and of the squared error, and the
 relative RMSE (compare.py's) with the band's pixels taken from the reference: the most that
