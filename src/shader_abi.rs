@@ -93,9 +93,11 @@ frame_uniforms! {
     /// `Frame::record` from the CPU twin.
     camera_water_gradient: [f32; 2],
     camera_water_height: f32,
-    /// 1 when the caustic photons follow `photon_density_rows`/`columns` (`effects.
-    /// caustic_photon_density = "view"`), 0 for the paper's even grid.
-    photon_density_warped: f32,
+    /// How the caustic photon grid is warped (`frame::photon_density::PhotonDensity::warp_mode`):
+    /// 0, not (the paper's even grid); 1, by `photon_density_rows`/`columns` (`effects.
+    /// caustic_photon_density = "view"`); 2, the same with the window's u and v exchanged
+    /// (the rows' knots give the window's u, the columns' the window's v per band of u).
+    photon_density_warp: f32,
     /// The part of the light's map window the photon grids cover, in its uv: the water's
     /// footprint (`frame::uniforms::photon_window`). Photons outside it could only miss the
     /// water.
@@ -110,9 +112,9 @@ frame_uniforms! {
     /// This frame's offset of the photon grids, in photon cells (`effects.photon_jitter`;
     /// zero without it): `cast_photon` shifts every photon by it.
     photon_jitter: [f32; 2],
-    /// 1 when the godray beams follow `godray_density_rows`/`columns` (`effects.
-    /// godray_photon_density = "view"`), 0 for the paper's even grid.
-    godray_density_warped: f32,
+    /// How the godray beams' grid is warped, as `photon_density_warp`, by `godray_density_rows`/
+    /// `columns` (`effects.godray_photon_density = "view"`).
+    godray_density_warp: f32,
     /// k: the caustic triangles' coarse grid is N/k columns by N·k rows, the same photons as
     /// N × N, so that their mesh cells are square on screen on average
     /// (`frame::photon_density`, from the view's survey; 1, a square grid, without it and for

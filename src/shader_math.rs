@@ -1,7 +1,7 @@
 //! Rust twin of `glsl/shared/shader_math.glsl`: the same formulas, for CPU tests and (later) the
 //! reference renderer. Change both together.
 
-use glam::{UVec2, Vec2, Vec3, Vec3Swizzles};
+use glam::{UVec2, Vec2, Vec2Swizzles, Vec3, Vec3Swizzles};
 use std::f32::consts::PI;
 
 /// The photon passes' subdivision bounds are part of the shader interface (`shader_abi::limits`).
@@ -486,7 +486,9 @@ pub fn onto_receiver_plane(
 /// band of the window's v, the window's u at grid u = k / SEGMENTS, interpolated between the
 /// bands' centres so that the warped grid stays continuous), and the area of the photon's
 /// warped cell (`half_cell` each side of `g`, along u and along v) over the even grid's.
-pub fn photon_density_warp(rows: &[f32], columns: &[f32], g: Vec2, half_cell: Vec2) -> (Vec2, f32) {
+/// `exchanged` (the uniforms' warp mode 2): the window's u and v, and the grid's, exchange
+/// roles, so `rows` gives the window's u and `columns` its v per band of u.
+pub fn photon_density_warp(rows: &[f32], columns: &[f32], exchanged: bool, g: Vec2, half_cell: Vec2) -> (Vec2, f32) {
     use crate::shader_abi::{PHOTON_DENSITY_KNOTS as KNOTS, PHOTON_DENSITY_SEGMENTS as SEGMENTS};
     let s = SEGMENTS as f32;
     let lerp_v = |g: f32| {
@@ -504,10 +506,12 @@ pub fn photon_density_warp(rows: &[f32], columns: &[f32], g: Vec2, half_cell: Ve
         let ub = columns[b] + (columns[b + 1] - columns[b]) * (t - k as f32);
         ua + (ub - ua) * (band - j as f32)
     };
+    let (g, half_cell) = if exchanged { (g.yx(), half_cell.yx()) } else { (g, half_cell) };
     let v = lerp_v(g.y);
     let v_span = lerp_v(g.y + half_cell.y) - lerp_v(g.y - half_cell.y);
     let u_span = lerp_u(g.x + half_cell.x, v) - lerp_u(g.x - half_cell.x, v);
-    (Vec2::new(lerp_u(g.x, v), v), u_span * v_span / (4.0 * half_cell.x * half_cell.y))
+    let uv = Vec2::new(lerp_u(g.x, v), v);
+    (if exchanged { uv.yx() } else { uv }, u_span * v_span / (4.0 * half_cell.x * half_cell.y))
 }
 
 /// Everything `cast_photon` reads: the frame's uniforms, the noise, and the light's
@@ -613,9 +617,14 @@ impl PhotonCaster<'_> {
         let (window_min, window_size) = (Vec2::from(u.photon_window_min), Vec2::from(u.photon_window_size));
         let mut uv = uv + Vec2::from(u.photon_jitter) / photons_per_axis;
         let mut cell_scale = 1.0;
-        if u.photon_density_warped > 0.0 {
-            (uv, cell_scale) =
-                photon_density_warp(&u.photon_density_rows, &u.photon_density_columns, uv, 0.5 / photons_per_axis);
+        if u.photon_density_warp > 0.0 {
+            (uv, cell_scale) = photon_density_warp(
+                &u.photon_density_rows,
+                &u.photon_density_columns,
+                u.photon_density_warp > 1.5,
+                uv,
+                0.5 / photons_per_axis,
+            );
         }
         let uv = window_min + uv * window_size;
         let ndc = uv * 2.0 - 1.0;

@@ -335,11 +335,35 @@ fn compare_photons_with_twin(model: WaterModel, density: underlight::scene::Phot
     compare_photons_on_grid(model, density, CausticEstimator::Paper);
 }
 
+#[test]
+fn photons_of_the_exchanged_warp_agree_with_the_cpu_twin() {
+    // The storage's view makes the survey exchange the warp's u and v
+    // (`photon_density::shaped_for_the_mesh`; docs/accuracy.md, "The warp's order"): the
+    // shader's exchanged warp (`photon_density_warp` mode 2) against the twin's, photon for
+    // photon. The survey's rays do not depend on the output's size, only on its aspect.
+    let mut scene = underlight::scene::load("storage").unwrap();
+    scene.output = [160, 100];
+    scene.effects.caustic_grid = 32;
+    scene.effects.caustic_subdivision = 3;
+    compare_scene_photons_with_twin(
+        &scene,
+        1.0,
+        TwinChecks { second_maps: true, shaped_grid: false, exchanged: Some(true) },
+    );
+}
+
+/// What `compare_scene_photons_with_twin` requires of its scene beyond the photons' agreement.
+struct TwinChecks {
+    /// Some photons land through the second, steeper light maps.
+    second_maps: bool,
+    /// The survey shapes the triangles' coarse grid (k away from 1).
+    shaped_grid: bool,
+    /// The caustic warp's order the survey must choose (`PhotonDensity::exchanged`).
+    exchanged: Option<bool>,
+}
+
 fn compare_photons_on_grid(model: WaterModel, density: underlight::scene::PhotonSpread, estimator: CausticEstimator) {
-    use glam::{UVec2, Vec3};
-    use underlight::frame::uniforms::FrameUniforms;
-    use underlight::frame::FrameOptions;
-    use underlight::shader_math::{caustic_grid_cell, caustic_grid_photon_uv, NoiseTexture, PhotonCaster};
+    use glam::Vec3;
 
     // Waves with noise and a tilted sun, so refraction, the iteration and the drops all matter.
     let mut scene = pool(0.04);
@@ -357,7 +381,21 @@ fn compare_photons_on_grid(model: WaterModel, density: underlight::scene::Photon
     if triangles {
         scene.output = [320, 128]; // a view that shapes the triangles' grid
     }
-    let time = 1.7;
+    let checks = TwinChecks { second_maps: true, shaped_grid: triangles, exchanged: None };
+    compare_scene_photons_with_twin(&scene, 1.7, checks);
+}
+
+/// Every caustic photon the GPU records for `scene`'s first frame at `time` against the CPU
+/// twin's cast of the same grid position, with the warp surveyed again on the CPU.
+fn compare_scene_photons_with_twin(scene: &Scene, time: f32, checks: TwinChecks) {
+    use glam::{UVec2, Vec3};
+    use underlight::frame::uniforms::FrameUniforms;
+    use underlight::frame::FrameOptions;
+    use underlight::shader_math::{caustic_grid_cell, caustic_grid_photon_uv, NoiseTexture, PhotonCaster};
+
+    let (model, density, estimator) =
+        (scene.water.model, scene.effects.caustic_photon_density, scene.effects.caustic_estimator);
+    let triangles = estimator == CausticEstimator::Triangles;
     let ctx = validated_context();
     if !ctx.device.has_pipeline_stores() {
         panic!("{} cannot record photons (no vertexPipelineStoresAndAtomics)", ctx.device.info.name);
@@ -365,7 +403,7 @@ fn compare_photons_on_grid(model: WaterModel, density: underlight::scene::Photon
     let out = vk::Extent2D { width: scene.output[0], height: scene.output[1] };
     let mut renderer = SceneRenderer::with_options(
         &ctx.device,
-        &scene,
+        scene,
         out,
         FrameOptions { record_photons: true, ..Default::default() },
     )
@@ -391,13 +429,16 @@ fn compare_photons_on_grid(model: WaterModel, density: underlight::scene::Photon
     assert!(stored.iter().all(|len| (len - 1.0).abs() < 0.02), "a stored normal is not unit length");
     assert!(light_normals.pixels.iter().any(|n| n[1] > 0.99), "no floor normal reads straight up");
 
-    let mut uniforms = FrameUniforms::new(&scene, scene.bounds(), &extents, time);
+    let mut uniforms = FrameUniforms::new(scene, scene.bounds(), &extents, time);
     if density == underlight::scene::PhotonSpread::View {
-        let bvh = underlight::bvh::Bvh::of_scene(&scene);
-        let warp = underlight::frame::photon_density::view_adapted(&scene, scene.bounds(), &bvh, &uniforms, None)
+        let bvh = underlight::bvh::Bvh::of_scene(scene);
+        let warp = underlight::frame::photon_density::view_adapted(scene, scene.bounds(), &bvh, &uniforms, None)
             .caustics
-            .expect("the pool is in view");
-        assert!(warp.peak_density() > 2.0, "the pool's view should concentrate the photons: {}", warp.peak_density());
+            .expect("the water is in view");
+        assert!(warp.peak_density() > 2.0, "the view should concentrate the photons: {}", warp.peak_density());
+        if let Some(exchanged) = checks.exchanged {
+            assert_eq!(warp.exchanged, exchanged, "the survey's order of the warp");
+        }
         warp.apply_to_caustics(&mut uniforms);
     }
     let noise = NoiseTexture::generate();
@@ -416,7 +457,7 @@ fn compare_photons_on_grid(model: WaterModel, density: underlight::scene::Photon
     // caustic_splat.glsl); the survey leaves the paper's square.
     let aspect = uniforms.caustic_grid_aspect;
     assert!(triangles || aspect == 1.0, "the paper's grid is square: k = {aspect}");
-    if triangles {
+    if checks.shaped_grid {
         assert!((aspect - 1.0).abs() > 0.2, "the wide view should shape the triangles' grid: k = {aspect}");
     }
     let (_, cells) = caustic_grid_cell(UVec2::ZERO, grid, aspect);
@@ -460,12 +501,13 @@ fn compare_photons_on_grid(model: WaterModel, density: underlight::scene::Photon
         }
     }
     eprintln!(
-        "{model:?}, {density:?} density, {estimator:?} (k = {aspect}): photons: {total}, landed on the GPU {landed}, \
-         both {both} ({steep} through the second maps), disagree {disagree}, hits > 2 texels apart {far}, \
-         worst {worst} m (texel {texel} m)"
+        "{:?}, {model:?}, {density:?} density, {estimator:?} (k = {aspect}, warp mode {}): photons: {total}, \
+         landed on the GPU {landed}, both {both} ({steep} through the second maps), disagree {disagree}, \
+         hits > 2 texels apart {far}, worst {worst} m (texel {texel} m)",
+        scene.name, uniforms.photon_density_warp
     );
     assert!(landed > total / 4, "too few photons land for the comparison to mean much");
-    assert!(steep > 0, "no photon beside the post's shadow was placed by the second light maps");
+    assert!(!checks.second_maps || steep > 0, "no photon beside the post's shadow was placed by the second light maps");
     // Float rounding differs (GPU transcendental functions, fused operations), so a photon
     // whose estimate lands on a texel edge may pick the neighbouring texel; nothing more.
     assert!(disagree * 200 < total, "{disagree} of {total} photons land on one side only");
@@ -589,7 +631,7 @@ fn surveyed_caustic_warp(
 #[test]
 fn a_grid_shaped_for_the_view_lights_flat_water_exactly() {
     // The survey shapes the caustic triangles' coarse grid as N/k × N·k cells so that their
-    // mesh cells are square on screen (`photon_density::grid_aspect`). Looking straight down
+    // mesh cells are square on screen (`photon_density::CellShapes`). Looking straight down
     // with a wide view (320×128), the photons spread for the view cover a window region
     // 2.5× wider than tall, and a square grid's cells would be as much longer across the
     // screen than down it; the survey estimates k ≈ √(128/320) = 0.63 and picks the level
@@ -626,18 +668,12 @@ fn the_survey_spends_no_photons_on_receivers_the_camera_sees_in_shadow() {
     let inverse = glam::Mat4::from_cols_array_2d(&uniforms.light_inv_view_proj);
     let (window_min, window_size) =
         (glam::Vec2::from(uniforms.photon_window_min), glam::Vec2::from(uniforms.photon_window_size));
-    let columns = warp.columns_flat();
     let n = 200;
     let mut under_roof = 0;
     for j in 0..n {
         for i in 0..n {
             let g = glam::Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
-            let (uv, _) = underlight::shader_math::photon_density_warp(
-                &warp.rows,
-                &columns,
-                g,
-                glam::Vec2::splat(0.5 / n as f32),
-            );
+            let (uv, _) = warp.warp(g, glam::Vec2::splat(0.5 / n as f32));
             let ndc = (window_min + uv * window_size) * 2.0 - 1.0;
             let near = inverse.project_point3(glam::Vec3::new(ndc.x, ndc.y, 0.0));
             let far = inverse.project_point3(glam::Vec3::new(ndc.x, ndc.y, 1.0));

@@ -34,15 +34,16 @@ struct Photon {
 // grid position g ∈ [0, 1]² to the photon window's uv, through the inverse cumulative
 // densities in the frame's uniforms: the window's v from the rows' knots, the window's u from
 // the knots of the two bands of v around it, interpolated so that neighbouring photons stay
-// neighbours. The caustics' warp follows the pixels that see where photons land, the godray
+// neighbours. In mode 2 (DENSITY_WARP) the window's u and v exchange those roles, and so do
+// the grid's: the survey picks the order whose mesh cells are squarer on screen. The caustics' warp follows the pixels that see where photons land, the godray
 // beams' the view rays' length through the water above where they enter
 // (effects.caustic_photon_density, godray_photon_density).
 #ifdef PHOTON_BEAMS
-#define DENSITY_WARPED frame.godray_density_warped
+#define DENSITY_WARP frame.godray_density_warp
 #define DENSITY_ROWS frame.godray_density_rows
 #define DENSITY_COLUMNS frame.godray_density_columns
 #else
-#define DENSITY_WARPED frame.photon_density_warped
+#define DENSITY_WARP frame.photon_density_warp
 #define DENSITY_ROWS frame.photon_density_rows
 #define DENSITY_COLUMNS frame.photon_density_columns
 #endif
@@ -71,11 +72,17 @@ float density_knot_lerp_u(float g, float v) {
 // than as the warp's derivative at its centre, so that a cell across a knot, where the slope
 // changes, carries the light the mesh's triangles there cover.
 vec2 photon_density_warp(vec2 g, vec2 half_cell, out float cell_scale) {
+    bool exchanged = DENSITY_WARP > 1.5;
+    if (exchanged) {
+        g = g.yx;
+        half_cell = half_cell.yx;
+    }
     float v = density_knot_lerp_v(g.y);
     float v_span = density_knot_lerp_v(g.y + half_cell.y) - density_knot_lerp_v(g.y - half_cell.y);
     float u_span = density_knot_lerp_u(g.x + half_cell.x, v) - density_knot_lerp_u(g.x - half_cell.x, v);
     cell_scale = u_span * v_span / (4.0 * half_cell.x * half_cell.y);
-    return vec2(density_knot_lerp_u(g.x, v), v);
+    vec2 uv = vec2(density_knot_lerp_u(g.x, v), v);
+    return exchanged ? uv.yx : uv;
 }
 
 // Texel of the first light maps (`steep`: the second) under world point p; false when p
@@ -247,7 +254,7 @@ bool cast_photon(vec2 uv, vec2 photons_per_axis, out Photon ph) {
     // warped to where the view needs photons (effects.caustic_photon_density and
     // godray_photon_density; the identity without).
     uv += frame.photon_jitter / photons_per_axis;
-    if (DENSITY_WARPED > 0.0) uv = photon_density_warp(uv, 0.5 / photons_per_axis, ph.cell_scale);
+    if (DENSITY_WARP > 0.0) uv = photon_density_warp(uv, 0.5 / photons_per_axis, ph.cell_scale);
     ph.window_uv = uv;
     uv = frame.photon_window_min + uv * frame.photon_window_size;
     vec2 ndc = uv * 2.0 - 1.0;

@@ -64,13 +64,13 @@ layout(set = 0, binding = BINDING_UNIFORMS, std430) readonly buffer FrameUniform
     float surface_views_ready;     // 1 if this frame recorded the refraction and reflection passes
     vec2 camera_water_gradient;    // the surface's gradient at the camera's xz (the CPU twin's, for the pixels' side, underwater_shading.glsl)
     float camera_water_height;     // the surface's height above the level there
-    float photon_density_warped;   // 1: the caustic photons follow the density below (effects.caustic_photon_density = "view")
+    float photon_density_warp;     // 0: the even grid; 1: the warp below (effects.caustic_photon_density = "view"); 2: the same, u and v exchanged
     vec2 photon_window_min;        // the photon grids' part of the light's map window (uv): the water's footprint
     vec2 photon_window_size;
     vec3 refracted_light_axis;     // a directional light's direction under flat water (0: a point light)
     float refracted_texel_stretch; // max(1, |r_y| / |d_y|): a map texel's beam under the water against above
     vec2 photon_jitter;            // this frame's photon-grid offset, in photon cells (effects.photon_jitter)
-    float godray_density_warped;   // 1: the godray beams follow godray_density_* (effects.godray_photon_density = "view")
+    float godray_density_warp;     // photon_density_warp for the godray beams, by godray_density_* (effects.godray_photon_density = "view")
     float caustic_grid_aspect;     // k: the caustic triangles' coarse grid is N/k columns × N·k rows (frame::photon_density)
     vec3 steep_light_axis;         // the second light maps' bend under the water, steeper (0: no second maps)
     float steep_texel_stretch;     // refracted_texel_stretch for the second maps

@@ -145,6 +145,10 @@ pub(super) fn run(cli: &Cli, args: &SceneArgs) -> Result<i32> {
                 renderer.frame.photon_survey_time.as_secs_f64() * 1e3
             );
         }
+        if let Some(warp) = renderer.frame.caustic_photon_warp() {
+            let order = if warp.exchanged { "u and v exchanged" } else { "rows first" };
+            println!("caustic photons spread for the view: coarse grid aspect {:.2}, {order}", warp.grid_aspect);
+        }
         rendered
     };
     let images = images.expect("read back requested");

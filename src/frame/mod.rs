@@ -668,6 +668,14 @@ impl Frame {
         &mut self.scene
     }
 
+    /// The caustic photons' warp as last surveyed (`effects.caustic_photon_density = "view"`;
+    /// None before the first survey, or where the view holds too little lit water): its grid
+    /// aspect and order, which `render` prints.
+    pub fn caustic_photon_warp(&self) -> Option<&photon_density::PhotonDensity> {
+        let view = self.scene.effects.caustic_photon_density == crate::scene::PhotonSpread::View;
+        self.photon_density.as_ref().filter(|_| view).and_then(|(_, densities)| densities.caustics.as_ref())
+    }
+
     /// Writes this frame's uniforms (the slot's fence has signalled, so its buffer is free)
     /// and records the plan's schedule for where the camera is, each pass through the slot's
     /// timer.

@@ -27,9 +27,11 @@
 //! receivers no ray met still get photons), each histogram is a piecewise-constant density.
 //! The warp is its inverse cumulative distribution: the window's v from the rows' marginal,
 //! the window's u from each row's conditional, interpolated between rows so that the mesh
-//! stays continuous. `cast_photon` (photon_cast.glsl, twin `shader_math::photon_density_warp`)
-//! maps its grid position through it and scales the photon's flux by its warped cell's area
-//! over the even cell's: a photon carries the light through its own cell, however large.
+//! stays continuous; or, for the caustic triangles where that makes their cells squarer on
+//! screen, the same with u and v exchanged (`shaped_for_the_mesh`). `cast_photon`
+//! (photon_cast.glsl, twin `shader_math::photon_density_warp`) maps its grid position through
+//! it and scales the photon's flux by its warped cell's area over the even cell's: a photon
+//! carries the light through its own cell, however large.
 //!
 //! The warps depend on the camera and the light, not the time, so the frame computes them
 //! when either moves (`Frame::record`), not every frame.
@@ -79,8 +81,11 @@ pub struct PhotonDensity {
     /// u = k / SEGMENTS.
     pub columns: [[f32; KNOTS]; SEGMENTS],
     /// k of the caustic triangles' coarse grid, N/k columns by N·k rows
-    /// (`FrameUniforms::caustic_grid_aspect`; `grid_aspect`); 1 for the beams and the even grid.
+    /// (`FrameUniforms::caustic_grid_aspect`; `CellShapes::grid_aspect`); 1 for the beams and the even grid.
     pub grid_aspect: f32,
+    /// The window's u and v exchange roles (`FrameUniforms::photon_density_warp` = 2): `rows`
+    /// gives the window's u at grid u, `columns` its v per band of u (`warp_order`).
+    pub exchanged: bool,
 }
 
 impl PhotonDensity {
@@ -92,12 +97,27 @@ impl PhotonDensity {
             rows[k] = k as f32 / SEGMENTS as f32;
             k += 1;
         }
-        PhotonDensity { rows, columns: [rows; SEGMENTS], grid_aspect: 1.0 }
+        PhotonDensity { rows, columns: [rows; SEGMENTS], grid_aspect: 1.0, exchanged: false }
     };
+
+    /// `FrameUniforms::photon_density_warp` (and `godray_density_warp`) for this warp.
+    pub fn warp_mode(&self) -> f32 {
+        if self.exchanged {
+            2.0
+        } else {
+            1.0
+        }
+    }
+
+    /// Grid position `g` to the photon window's uv, and the warped cell's area over the even
+    /// grid's (`half_cell` each side of `g`): `shader_math::photon_density_warp` of this warp.
+    pub fn warp(&self, g: Vec2, half_cell: Vec2) -> (Vec2, f32) {
+        crate::shader_math::photon_density_warp(&self.rows, &self.columns_flat(), self.exchanged, g, half_cell)
+    }
 
     /// Sets the frame's uniforms to warp the caustic photons by this density.
     pub fn apply_to_caustics(&self, u: &mut FrameUniforms) {
-        u.photon_density_warped = 1.0;
+        u.photon_density_warp = self.warp_mode();
         u.caustic_grid_aspect = self.grid_aspect;
         u.photon_density_rows = self.rows;
         u.photon_density_columns = self.columns_flat();
@@ -105,7 +125,7 @@ impl PhotonDensity {
 
     /// Sets the frame's uniforms to warp the godray beams by this density.
     pub fn apply_to_godrays(&self, u: &mut FrameUniforms) {
-        u.godray_density_warped = 1.0;
+        u.godray_density_warp = self.warp_mode();
         u.godray_density_rows = self.rows;
         u.godray_density_columns = self.columns_flat();
     }
@@ -131,7 +151,35 @@ impl PhotonDensity {
         for (j, row) in h.iter().enumerate() {
             columns[j] = inverse_cumulative(row);
         }
-        PhotonDensity { rows: inverse_cumulative(&marginal), columns, grid_aspect: 1.0 }
+        PhotonDensity { rows: inverse_cumulative(&marginal), columns, grid_aspect: 1.0, exchanged: false }
+    }
+
+    /// The same with the window's u and v exchanged: `rows` from the marginal of u, `columns`
+    /// from the conditional of v in each band of u.
+    fn from_histogram_exchanged(h: &[[f64; SEGMENTS]; SEGMENTS]) -> Self {
+        PhotonDensity { exchanged: true, ..Self::from_histogram(&transposed(h)) }
+    }
+
+    /// The warp's slopes at window position `w` (rows first): d(window u)/d(grid u) and
+    /// d(window v)/d(grid v), each constant between two knots. The photon spacing there is the
+    /// grid's times these; they follow the histogram only as finely as the knots do, which
+    /// in the sparse parts of the window is coarser than the bands.
+    fn slopes_at(&self, w: Vec2) -> DVec2 {
+        let s = SEGMENTS as f64;
+        // The segment of a piecewise-linear increasing function (values at k / SEGMENTS) that
+        // holds x, and its slope.
+        let slope = |at: &dyn Fn(usize) -> f64, x: f64| {
+            let k = (1..SEGMENTS).take_while(|&k| at(k) <= x).last().unwrap_or(0);
+            (at(k + 1) - at(k)) * s
+        };
+        let v = w.y as f64;
+        let v_slope = slope(&|k| self.rows[k] as f64, v);
+        let band = (v * s - 0.5).clamp(0.0, s - 1.0);
+        let j = (band as usize).min(SEGMENTS - 2);
+        let f = band - j as f64;
+        let (a, b) = (&self.columns[j], &self.columns[j + 1]);
+        let u_slope = slope(&|k| a[k] as f64 + (b[k] as f64 - a[k] as f64) * f, w.x as f64);
+        DVec2::new(u_slope, v_slope)
     }
 
     /// The warp's densest cell against its mean: how much finer the mesh is there than the
@@ -144,6 +192,7 @@ impl PhotonDensity {
                 let (_, jacobian) = crate::shader_math::photon_density_warp(
                     &self.rows,
                     &columns,
+                    self.exchanged,
                     g,
                     Vec2::splat(0.5 / SEGMENTS as f32),
                 );
@@ -227,7 +276,7 @@ pub fn view_adapted(
     let camera = Vec3::from(u.camera_position).as_dvec3();
     let level = w.level as f64;
     let mut receivers = [[0.0f64; SEGMENTS]; SEGMENTS];
-    // Where each survey ray's receiver takes its photons from, row after row (`grid_aspect`).
+    // Where each survey ray's receiver takes its photons from, row after row (`CellShapes::survey`).
     let mut receiver_uv = [None; RAYS[0] * RAYS[1]];
     let mut crossings = [[0.0f64; SEGMENTS]; SEGMENTS];
     let (mut landed, mut crossed) = (0usize, 0usize);
@@ -269,13 +318,11 @@ pub fn view_adapted(
             let density = survey_density(receivers);
             // Only the triangles' mesh cells want a shaped grid; the paper's points keep its
             // square one.
-            let grid_aspect = if scene.effects.caustic_estimator == crate::scene::CausticEstimator::Triangles {
-                let previous_aspect = previous.and_then(|p| p.caustics).map(|c| c.grid_aspect);
-                grid_aspect_level(grid_aspect(&density, &receiver_uv, ray_step), previous_aspect)
+            if scene.effects.caustic_estimator == crate::scene::CausticEstimator::Triangles {
+                shaped_for_the_mesh(&density, &receiver_uv, ray_step, previous.and_then(|p| p.caustics))
             } else {
-                1.0
-            };
-            PhotonDensity { grid_aspect, ..PhotonDensity::from_histogram(&density) }
+                PhotonDensity::from_histogram(&density)
+            }
         }),
         godrays: (crossed >= MIN_RAYS).then(|| PhotonDensity::from_histogram(&survey_density(crossings))),
     }
@@ -337,7 +384,7 @@ fn histogram_cell(uv: Vec2) -> (usize, usize) {
     (cell.y as usize, cell.x as usize)
 }
 
-/// The largest k either way (`grid_aspect`): N/2 × 2N coarse cells.
+/// The largest k either way (`CellShapes::grid_aspect`): N/2 × 2N coarse cells.
 const GRID_ASPECT_MAX: f32 = 2.0;
 /// The least k either way that leaves the square grid (`grid_aspect_level`). Any other grid
 /// moves every photon, and a near-square estimate is noise: the tank's reads 1.07 or 0.92
@@ -350,12 +397,87 @@ const GRID_ASPECT_LEVELS_PER_OCTAVE: f32 = 4.0;
 /// How far past the boundary between two levels the estimate must move, in quarter octaves,
 /// before the grid leaves the level the previous survey chose (`grid_aspect_level`).
 const GRID_ASPECT_HYSTERESIS: f32 = 0.25;
-/// A survey ray's L_v / L_u counts as at most 16 either way (`grid_aspect`): neighbours on two
-/// receivers give steps of no meaning, and unbounded they would rule the mean.
+/// The screen's part of a survey ray's L_v / L_u counts as at most 16 either way
+/// (`CellShapes::survey`): neighbours on two receivers give steps of no meaning, and unbounded
+/// they would rule the mean. The warp's part is not bounded: it is the warp's own, and
+/// bounding it hid how long the rows-first warp's cells grow where a band is shared.
 const OUTLIER_LOG_RATIO: f64 = 2.772_588_722_239_781; // ln 16
 
-/// k for the caustic triangles' coarse grid of N/k × N·k cells (`FrameUniforms::
-/// caustic_grid_aspect`): the one that makes their mesh cells square on screen on average.
+/// The caustic triangles' warp of `density`: in the order whose mesh cells come out squarer
+/// on screen (`CellShapes::misfit`), rows first (the window's v from its marginal, u from
+/// each band's conditional) or with u and v exchanged, and with the grid aspect that order
+/// wants (`grid_aspect_level`). `previous`: the last survey's warp, whose order is kept
+/// unless the other fits better by `WARP_ORDER_SWITCH`.
+///
+/// Why the order: the rows are straight lines across the whole window, so their spacing is
+/// the marginal's, the same for every u along a band. Where a band holds both a receiver that
+/// wants many photons (the floor under the camera) and one that wants few per window area
+/// along v but many along u, the latter's cells come out long and thin. On the storage the
+/// crates by the far wall, which the light grazes, are a 20 cm strip of the window along u: rows
+/// first gave them a column of photons every 37 cm, and they stayed dark (docs/accuracy.md,
+/// "The warp's order").
+fn shaped_for_the_mesh(
+    density: &[[f64; SEGMENTS]; SEGMENTS],
+    receiver_uv: &[Option<Vec2>; RAYS[0] * RAYS[1]],
+    ray_step: DVec2,
+    previous: Option<PhotonDensity>,
+) -> PhotonDensity {
+    let exchanged_uv = receiver_uv.map(|uv| uv.map(|w| Vec2::new(w.y, w.x)));
+    let exchanged_density = transposed(density);
+    // Per order: its grid aspect (k of its own grid, whose rows run along the marginal's
+    // axis) and how far its cells stay from square with it.
+    let fit = |exchanged: bool| {
+        let shapes = if exchanged {
+            CellShapes::survey(&exchanged_density, &exchanged_uv, ray_step)
+        } else {
+            CellShapes::survey(density, receiver_uv, ray_step)
+        };
+        let previous_k = previous.filter(|p| p.exchanged == exchanged).map(|p| {
+            if exchanged {
+                1.0 / p.grid_aspect
+            } else {
+                p.grid_aspect
+            }
+        });
+        shapes.map(|s| {
+            let k = grid_aspect_level(s.grid_aspect(), previous_k);
+            (k, s.misfit(k))
+        })
+    };
+    let (rows_first, exchanged) = (fit(false), fit(true));
+    // Rows first unless the other order fits better by WARP_ORDER_SWITCH, and the same from
+    // an exchanged previous warp.
+    let choose_exchanged = match (rows_first, exchanged) {
+        (Some((_, rows_misfit)), Some((_, exchanged_misfit))) => {
+            if previous.is_some_and(|p| p.exchanged) {
+                !(rows_misfit < WARP_ORDER_SWITCH * exchanged_misfit)
+            } else {
+                exchanged_misfit < WARP_ORDER_SWITCH * rows_misfit
+            }
+        }
+        _ => false,
+    };
+    if choose_exchanged {
+        let k = exchanged.map_or(1.0, |(k, _)| k);
+        PhotonDensity { grid_aspect: 1.0 / k, ..PhotonDensity::from_histogram_exchanged(density) }
+    } else {
+        let k = rows_first.map_or(1.0, |(k, _)| k);
+        PhotonDensity { grid_aspect: k, ..PhotonDensity::from_histogram(density) }
+    }
+}
+
+/// How much better the other order's cells must fit (`CellShapes::misfit`) than those of the
+/// previous survey's order, rows first for the first survey, before the warp changes order
+/// (`shaped_for_the_mesh`). A change moves every photon, so an order kept while the camera
+/// moves re-samples the caustic only when it pays. Where the two fit about alike, as on the
+/// tank (1.20 rows first against 1.09 exchanged at 320×200, 1.19 against 1.17 at 800×800),
+/// neither reads better against the reference; the storage's exchanged order fits at 0.63
+/// of the rows-first one's misfit and lowers its error (docs/accuracy.md, "The warp's order").
+const WARP_ORDER_SWITCH: f64 = 0.85;
+
+/// The survey rays' estimate of the shape of the mesh's cells on screen, for one order of the
+/// warp (`shaped_for_the_mesh`): the sum and the sum of squares of ln(L_v / L_u) over the rays,
+/// L_u and L_v a cell's edges along the window's u and v on screen.
 ///
 /// Why: the grid is N × N over the photon window and the warp spreads each axis by itself, so
 /// nothing made a cell square where the camera sees it. With photons in proportion to the
@@ -367,57 +489,82 @@ const OUTLIER_LOG_RATIO: f64 = 2.772_588_722_239_781; // ln 16
 ///
 /// How: for each survey ray whose two neighbours (across and down the screen) also reached a
 /// receiver, the three entry points give the screen's step per window step (the inverse of
-/// their differences, in pixels); the warp's spacing there is 1 / (N × its density) along
-/// each axis (`density`, the survey's histogram: the marginal of v and the conditional of u).
-/// Their product is the length of a mesh cell's edge along u and along v on screen, and k is
-/// √ of the geometric mean of L_v / L_u over the rays, each ratio held within 1/16 and 16
-/// (neighbours on two receivers, a post before the floor, give steps of no meaning). The
-/// geometric mean, because that is what the cells' measured edges gave: the recorded photons'
-/// mean cell reads k = 1.11, 0.83 and 1.48 on the tank, the port and the storage, this
-/// estimate 1.07, 0.86 and 1.47; the median of the ratios read 0.95, 0.78 and 1.51.
-fn grid_aspect(
-    density: &[[f64; SEGMENTS]; SEGMENTS],
-    receiver_uv: &[Option<Vec2>; RAYS[0] * RAYS[1]],
-    ray_step: DVec2,
-) -> f32 {
-    let total: f64 = density.iter().flatten().sum();
-    let (mut log_ratio_sum, mut rays) = (0.0f64, 0usize);
-    for y in 0..RAYS[1] - 1 {
-        for x in 0..RAYS[0] - 1 {
-            let at = y * RAYS[0] + x;
-            let (Some(w), Some(across), Some(down)) = (receiver_uv[at], receiver_uv[at + 1], receiver_uv[at + RAYS[0]])
-            else {
-                continue;
-            };
-            // The window's displacement per pixel across the screen (a) and down it (b): the
-            // columns of d(window)/d(screen). Its inverse's columns are the screen's
-            // displacement per unit of window u and of window v.
-            let a = (across - w).as_dvec2() / ray_step.x;
-            let b = (down - w).as_dvec2() / ray_step.y;
-            let det = a.x * b.y - a.y * b.x;
-            if !(det.abs() > 1e-18) {
-                continue;
-            }
-            let per_u = DVec2::new(b.y, -a.y) / det;
-            let per_v = DVec2::new(-b.x, a.x) / det;
-            let (j, i) = histogram_cell(w);
-            let band: f64 = density[j].iter().sum();
-            let (v_density, u_density) = (band / total, density[j][i] / band);
-            let ratio = (per_v.length() / v_density) / (per_u.length() / u_density);
-            if ratio.is_finite() && ratio > 0.0 {
-                log_ratio_sum += ratio.ln().clamp(-OUTLIER_LOG_RATIO, OUTLIER_LOG_RATIO);
-                rays += 1;
-            }
-        }
-    }
-    if rays < MIN_RAYS {
-        return 1.0;
-    }
-    let mean = log_ratio_sum / rays as f64;
-    ((0.5 * mean).exp() as f32).clamp(1.0 / GRID_ASPECT_MAX, GRID_ASPECT_MAX)
+/// their differences, in pixels); the warp's spacing there is its slope along each axis over
+/// N (`PhotonDensity::slopes_at`, the warp of `density`, rows first). Their product is the
+/// length of a mesh cell's edge along u and along v on screen. The screen's part of each ratio
+/// is held within 1/16 and 16 (`OUTLIER_LOG_RATIO`).
+#[derive(Clone, Copy, Debug)]
+struct CellShapes {
+    rays: usize,
+    log_ratio_sum: f64,
+    log_ratio_squares: f64,
 }
 
-/// The grid aspect the frame uses for the estimate `k` (`grid_aspect`): the square grid for k
+impl CellShapes {
+    /// `None` where fewer than `MIN_RAYS` rays have both neighbours on receivers.
+    fn survey(
+        density: &[[f64; SEGMENTS]; SEGMENTS],
+        receiver_uv: &[Option<Vec2>; RAYS[0] * RAYS[1]],
+        ray_step: DVec2,
+    ) -> Option<CellShapes> {
+        let warp = PhotonDensity::from_histogram(density);
+        let mut shapes = CellShapes { rays: 0, log_ratio_sum: 0.0, log_ratio_squares: 0.0 };
+        for y in 0..RAYS[1] - 1 {
+            for x in 0..RAYS[0] - 1 {
+                let at = y * RAYS[0] + x;
+                let (Some(w), Some(across), Some(down)) =
+                    (receiver_uv[at], receiver_uv[at + 1], receiver_uv[at + RAYS[0]])
+                else {
+                    continue;
+                };
+                // The window's displacement per pixel across the screen (a) and down it (b):
+                // the columns of d(window)/d(screen). Its inverse's columns are the screen's
+                // displacement per unit of window u and of window v.
+                let a = (across - w).as_dvec2() / ray_step.x;
+                let b = (down - w).as_dvec2() / ray_step.y;
+                let det = a.x * b.y - a.y * b.x;
+                if !(det.abs() > 1e-18) {
+                    continue;
+                }
+                let per_u = DVec2::new(b.y, -a.y) / det;
+                let per_v = DVec2::new(-b.x, a.x) / det;
+                // The screen's part held within its bounds; the warp's part is exact.
+                let screen_ratio = per_v.length() / per_u.length();
+                let slopes = warp.slopes_at(w);
+                let warp_ratio = slopes.y / slopes.x;
+                if screen_ratio.is_finite() && screen_ratio > 0.0 && warp_ratio.is_finite() && warp_ratio > 0.0 {
+                    let log_ratio = screen_ratio.ln().clamp(-OUTLIER_LOG_RATIO, OUTLIER_LOG_RATIO) + warp_ratio.ln();
+                    shapes.log_ratio_sum += log_ratio;
+                    shapes.log_ratio_squares += log_ratio * log_ratio;
+                    shapes.rays += 1;
+                }
+            }
+        }
+        (shapes.rays >= MIN_RAYS).then_some(shapes)
+    }
+
+    /// k for the caustic triangles' coarse grid of N/k × N·k cells (`FrameUniforms::
+    /// caustic_grid_aspect`, before `grid_aspect_level`): the one that makes their mesh cells
+    /// square on screen on average, √ of the geometric mean of L_v / L_u over the rays. The
+    /// geometric mean, because that is what the cells' measured edges gave: the recorded
+    /// photons' mean cell reads k = 1.11, 0.83 and 1.48 on the tank, the port and the storage,
+    /// this estimate 1.07, 0.86 and 1.47; the median of the ratios read 0.95, 0.78 and 1.51.
+    fn grid_aspect(&self) -> f32 {
+        let mean = self.log_ratio_sum / self.rays as f64;
+        ((0.5 * mean).exp() as f32).clamp(1.0 / GRID_ASPECT_MAX, GRID_ASPECT_MAX)
+    }
+
+    /// How far the cells stay from square with grid aspect k: the mean over the rays of
+    /// (ln(L_v / L_u) − 2 ln k)², the spread of the shapes that no one k removes, plus what
+    /// the levels and their bounds leave of the mean.
+    fn misfit(&self, k: f32) -> f64 {
+        let n = self.rays as f64;
+        let c = 2.0 * (k as f64).ln();
+        self.log_ratio_squares / n - 2.0 * c * self.log_ratio_sum / n + c * c
+    }
+}
+
+/// The grid aspect the frame uses for the estimate `k` (`CellShapes::grid_aspect`): the square grid for k
 /// within `GRID_ASPECT_MIN` either way; beyond it, `GRID_ASPECT_MIN` times the nearest whole
 /// number of quarter octaves (1.25, 1.49, 1.77, then `GRID_ASPECT_MAX`, and their inverses);
 /// and the `previous` survey's level while one within `GRID_ASPECT_HYSTERESIS` of a level of
@@ -462,6 +609,17 @@ fn survey_density(counts: [[f64; SEGMENTS]; SEGMENTS]) -> [[f64; SEGMENTS]; SEGM
         *d += FLOOR * mean;
     }
     density
+}
+
+/// The histogram `h` (`[v band][u band]`) with u and v exchanged.
+fn transposed(h: &[[f64; SEGMENTS]; SEGMENTS]) -> [[f64; SEGMENTS]; SEGMENTS] {
+    let mut t = [[0.0f64; SEGMENTS]; SEGMENTS];
+    for (j, row) in h.iter().enumerate() {
+        for (i, value) in row.iter().enumerate() {
+            t[i][j] = *value;
+        }
+    }
+    t
 }
 
 /// The mean over each cell's 3×3 neighbourhood, within the window.
@@ -541,13 +699,13 @@ fn underwater_ray(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec2Swizzles;
 
     #[test]
     fn the_even_grid_is_the_identity() {
         let even = PhotonDensity::EVEN;
         for g in [Vec2::new(0.013, 0.97), Vec2::new(0.5, 0.5), Vec2::new(0.71, 0.2)] {
-            let (w, jacobian) =
-                crate::shader_math::photon_density_warp(&even.rows, &even.columns_flat(), g, Vec2::splat(0.01));
+            let (w, jacobian) = even.warp(g, Vec2::splat(0.01));
             assert!((w - g).abs().max_element() < 1e-6, "{g} → {w}");
             assert!((jacobian - 1.0).abs() < 1e-5, "{jacobian}");
         }
@@ -566,29 +724,163 @@ mod tests {
         }
         let block = (third * third) as f64 * 9.0;
         let expected = block / (block + (SEGMENTS * SEGMENTS - third * third) as f64);
-        let warp = PhotonDensity::from_histogram(&h);
-        let columns = warp.columns_flat();
-        // A grid of photons: the share landing in the dense block, and the sum of their
-        // cells' areas (the flux they carry, as a share of the window's).
-        let n = 300;
-        let (mut inside, mut area) = (0usize, 0.0f64);
-        let edge = third as f32 / SEGMENTS as f32;
-        for j in 0..n {
-            for i in 0..n {
-                let g = Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
-                let (w, cell) =
-                    crate::shader_math::photon_density_warp(&warp.rows, &columns, g, Vec2::splat(0.5 / n as f32));
-                assert!(w.min_element() >= 0.0 && w.max_element() <= 1.0, "{g} → {w}");
-                area += cell as f64 / (n * n) as f64;
-                if w.x < edge && w.y >= 1.0 - edge {
-                    inside += 1;
+        // Either order of the warp (rows first, or u and v exchanged).
+        for warp in [PhotonDensity::from_histogram(&h), PhotonDensity::from_histogram_exchanged(&h)] {
+            // A grid of photons: the share landing in the dense block, and the sum of their
+            // cells' areas (the flux they carry, as a share of the window's).
+            let n = 300;
+            let (mut inside, mut area) = (0usize, 0.0f64);
+            let edge = third as f32 / SEGMENTS as f32;
+            for j in 0..n {
+                for i in 0..n {
+                    let g = Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
+                    let (w, cell) = warp.warp(g, Vec2::splat(0.5 / n as f32));
+                    assert!(w.min_element() >= 0.0 && w.max_element() <= 1.0, "{g} → {w}");
+                    area += cell as f64 / (n * n) as f64;
+                    if w.x < edge && w.y >= 1.0 - edge {
+                        inside += 1;
+                    }
+                }
+            }
+            // The bands' interpolation blurs one of the block's inner edges by half a band.
+            let share = inside as f64 / (n * n) as f64;
+            let order = if warp.exchanged { "exchanged" } else { "rows first" };
+            assert!(
+                (share - expected).abs() < 0.03,
+                "{order}: share of photons in the dense block: {share}, not {expected}"
+            );
+            assert!((area - 1.0).abs() < 0.01, "{order}: the photons' cells cover {area} of the window");
+        }
+    }
+
+    #[test]
+    fn the_exchanged_warp_is_the_mirror_of_the_transposed_density_s() {
+        // A density with no symmetry between u and v: the exchanged warp of h must place every
+        // photon where the rows-first warp of h's transpose places the mirrored grid position,
+        // mirrored, with the same cell area; and the survey must choose mirrored warps for
+        // mirrored views (a u and v mixed up anywhere, in the shader's twin, the histogram's
+        // transpose or the grid aspect's inversion, breaks one of these).
+        let mut h = [[0.0f64; SEGMENTS]; SEGMENTS];
+        for (j, row) in h.iter_mut().enumerate() {
+            for (i, value) in row.iter_mut().enumerate() {
+                *value = 0.2 + ((i * 7 + j * 3) % 11) as f64 * (1.0 + i as f64 / 8.0);
+            }
+        }
+        let t = transposed(&h);
+        let (exchanged, mirror) = (PhotonDensity::from_histogram_exchanged(&h), PhotonDensity::from_histogram(&t));
+        let half_cell = Vec2::new(0.004, 0.0015);
+        for g in [Vec2::new(0.013, 0.97), Vec2::new(0.5, 0.5), Vec2::new(0.71, 0.2), Vec2::new(0.33, 0.66)] {
+            let (w, cell) = exchanged.warp(g, half_cell);
+            let (m, mirror_cell) = mirror.warp(g.yx(), half_cell.yx());
+            assert!((w - m.yx()).abs().max_element() < 1e-6, "{g}: {w} against {}", m.yx());
+            assert!((cell - mirror_cell).abs() < 1e-5 * cell, "{g}: cell {cell} against {mirror_cell}");
+        }
+        // The survey of a view and of its mirror: rays over the window's lower left, four times
+        // as long across u as down v.
+        let survey = |mirrored: bool| {
+            let mut uv = [None; RAYS[0] * RAYS[1]];
+            for y in 0..RAYS[1] {
+                for x in 0..RAYS[0] {
+                    let w = Vec2::new(0.05 + 0.8 * x as f32 / RAYS[0] as f32, 0.1 + 0.2 * y as f32 / RAYS[1] as f32);
+                    uv[y * RAYS[0] + x] = Some(if mirrored { w.yx() } else { w });
+                }
+            }
+            shaped_for_the_mesh(if mirrored { &t } else { &h }, &uv, DVec2::splat(4.0), None)
+        };
+        let (view, mirrored) = (survey(false), survey(true));
+        eprintln!(
+            "view: exchanged {} k {}; mirrored: exchanged {} k {}",
+            view.exchanged, view.grid_aspect, mirrored.exchanged, mirrored.grid_aspect
+        );
+        assert_ne!(view.exchanged, mirrored.exchanged, "mirrored views must choose mirrored orders");
+        assert!(
+            (view.grid_aspect * mirrored.grid_aspect - 1.0).abs() < 1e-5,
+            "{} {}",
+            view.grid_aspect,
+            mirrored.grid_aspect
+        );
+    }
+
+    #[test]
+    fn the_warp_s_order_makes_a_narrow_receiver_s_cells_squarer() {
+        // The storage's case in small: the floor under the camera wants many photons over the
+        // window's high u, and a wall the light grazes, far off, a strip one band wide along
+        // u at low u across the same bands of v. Rows first, the rows follow the floor's
+        // marginal and the strip's cells come out long along u. The survey (rays evenly over
+        // the window, so that a ray's cell is the window's) must choose the order whose
+        // cells, measured through the warp itself, are squarer over the rays, and the strip's
+        // with them.
+        let mut h = [[0.3f64; SEGMENTS]; SEGMENTS];
+        for (j, row) in h.iter_mut().enumerate() {
+            for (i, value) in row.iter_mut().enumerate() {
+                if i >= SEGMENTS / 2 && (8..24).contains(&j) {
+                    *value = 10.0;
+                }
+                if i == 2 && (10..22).contains(&j) {
+                    *value = 6.0;
                 }
             }
         }
-        // The bands' interpolation blurs the block's lower edge by half a band.
-        let share = inside as f64 / (n * n) as f64;
-        assert!((share - expected).abs() < 0.03, "share of photons in the dense block: {share}, not {expected}");
-        assert!((area - 1.0).abs() < 0.01, "the photons' cells cover {area} of the window");
+        let mut uv = [None; RAYS[0] * RAYS[1]];
+        for y in 0..RAYS[1] {
+            for x in 0..RAYS[0] {
+                uv[y * RAYS[0] + x] =
+                    Some(Vec2::new((x as f32 + 0.5) / RAYS[0] as f32, (y as f32 + 0.5) / RAYS[1] as f32));
+            }
+        }
+        let step = DVec2::splat(4.0);
+        // Screen pixels per unit of the window's u and v.
+        let screen = Vec2::new(RAYS[0] as f32 * 4.0, RAYS[1] as f32 * 4.0);
+        // ln(L_v / L_u) of each photon's cell on screen, for a warp and its grid of N/k × N·k:
+        // over the whole window, and over the strip.
+        let cell_shapes = |warp: &PhotonDensity| {
+            let n = 120.0f32;
+            let spacing = Vec2::new(warp.grid_aspect / n, 1.0 / (n * warp.grid_aspect));
+            let (columns, rows) = ((1.0 / spacing.x) as usize, (1.0 / spacing.y) as usize);
+            let (mut all, mut strip) = ((0.0f64, 0usize), (0.0f64, 0usize));
+            for r in 0..rows {
+                for c in 0..columns {
+                    let g = Vec2::new((c as f32 + 0.5) * spacing.x, (r as f32 + 0.5) * spacing.y);
+                    let at = |g: Vec2| warp.warp(g, spacing * 0.5).0;
+                    let w = at(g);
+                    let along_u = (at(g + Vec2::X * spacing.x) - w) * screen;
+                    let along_v = (at(g + Vec2::Y * spacing.y) - w) * screen;
+                    let log_shape = (along_v.length() as f64 / along_u.length() as f64).ln().powi(2);
+                    // Each photon weighs by its cell's area: the rays are even over the window.
+                    let weight = (along_u.x * along_v.y - along_u.y * along_v.x).abs() as f64;
+                    all = (all.0 + weight * log_shape, all.1 + 1);
+                    let cell = histogram_cell(w);
+                    if cell.1 == 2 && (12..20).contains(&cell.0) {
+                        strip = (strip.0 + log_shape, strip.1 + 1);
+                    }
+                }
+            }
+            (all.0, strip.0 / strip.1.max(1) as f64)
+        };
+        let chosen = shaped_for_the_mesh(&h, &uv, step, None);
+        let other = {
+            let exchanged = !chosen.exchanged;
+            let density = if exchanged { transposed(&h) } else { h };
+            let rays = if exchanged { uv.map(|w| w.map(|w| w.yx())) } else { uv };
+            let k = grid_aspect_level(CellShapes::survey(&density, &rays, step).unwrap().grid_aspect(), None);
+            let warp =
+                if exchanged { PhotonDensity::from_histogram_exchanged(&h) } else { PhotonDensity::from_histogram(&h) };
+            PhotonDensity { grid_aspect: if exchanged { 1.0 / k } else { k }, ..warp }
+        };
+        let ((chosen_all, chosen_strip), (other_all, other_strip)) = (cell_shapes(&chosen), cell_shapes(&other));
+        eprintln!(
+            "chosen: exchanged {} k {}: {chosen_all:.3}, strip {chosen_strip:.3}; other: k {}: {other_all:.3}, strip {other_strip:.3}",
+            chosen.exchanged, chosen.grid_aspect, other.grid_aspect
+        );
+        assert!(chosen.exchanged, "the rows-first warp was kept");
+        assert!(
+            chosen_all < other_all,
+            "the chosen order's cells are less square: {chosen_all:.3} against {other_all:.3}"
+        );
+        assert!(
+            chosen_strip < other_strip,
+            "the strip's cells are less square: {chosen_strip:.3} against {other_strip:.3}"
+        );
     }
 
     #[test]
@@ -627,11 +919,17 @@ mod tests {
                     uv[y * RAYS[0] + x] = Some(Vec2::new(0.2 + wide * u, 0.2 + tall * v));
                 }
             }
-            grid_aspect(&even, &uv, DVec2::splat(4.0))
+            CellShapes::survey(&even, &uv, DVec2::splat(4.0)).unwrap()
         };
         // Per ray step: 0.5 / 80 across and 0.1 / 50 down, so L_v / L_u = 3.125.
-        let k = aspect(0.5, 0.1);
+        let shapes = aspect(0.5, 0.1);
+        let k = shapes.grid_aspect();
         assert!((k - 3.125f32.sqrt()).abs() < 1e-3, "k {k}");
+        // Every cell has that shape, so k makes them all square, and the square grid leaves
+        // them (ln 3.125)² from it.
+        assert!(shapes.misfit(k) < 1e-6, "{}", shapes.misfit(k));
+        assert!((shapes.misfit(1.0) - 3.125f64.ln().powi(2)).abs() < 1e-3, "{}", shapes.misfit(1.0));
+        let aspect = |wide: f32, tall: f32| aspect(wide, tall).grid_aspect();
         let k = aspect(0.1 * 80.0 / 50.0 / 3.125, 0.1);
         assert!((k - 1.0 / 3.125f32.sqrt()).abs() < 1e-3, "k {k}");
         // Past GRID_ASPECT_MAX: held there.
