@@ -413,9 +413,9 @@ const OUTLIER_LOG_RATIO: f64 = 2.772_588_722_239_781; // ln 16
 /// the marginal's, the same for every u along a band. Where a band holds both a receiver that
 /// wants many photons (the floor under the camera) and one that wants few per window area
 /// along v but many along u, the latter's cells come out long and thin. On the storage the
-/// crates by the far wall, which the light grazes, are a 20 cm strip of the window along u: rows
-/// first gave them a column of photons every 37 cm, and they stayed dark (docs/accuracy.md,
-/// "The warp's order").
+/// crates by the far wall, which the light grazes, are a 20 cm strip of the window along u:
+/// rows first gave them a column of photons about every 36 cm, and they stayed dark
+/// (docs/accuracy.md, "The warp's order").
 fn shaped_for_the_mesh(
     density: &[[f64; SEGMENTS]; SEGMENTS],
     receiver_uv: &[Option<Vec2>; RAYS[0] * RAYS[1]],
