@@ -802,6 +802,33 @@ mod tests {
     }
 
     #[test]
+    fn the_warp_keeps_its_order_where_the_other_fits_about_as_well() {
+        // An even density seen evenly, 2.5× wider on screen than the window region it takes its
+        // photons from is tall: both orders make the same cells (their misfits are equal), so
+        // the first survey keeps rows first, and a survey after an exchanged one stays
+        // exchanged, each with the grid aspect that makes its cells square.
+        let even = [[1.0f64; SEGMENTS]; SEGMENTS];
+        let mut uv = [None; RAYS[0] * RAYS[1]];
+        for y in 0..RAYS[1] {
+            for x in 0..RAYS[0] {
+                uv[y * RAYS[0] + x] =
+                    Some(Vec2::new(0.1 + 0.8 * x as f32 / RAYS[0] as f32, 0.3 + 0.2 * y as f32 / RAYS[1] as f32));
+            }
+        }
+        let step = DVec2::splat(4.0);
+        let first = shaped_for_the_mesh(&even, &uv, step, None);
+        assert!(!first.exchanged, "the first survey left rows first for an order that fits no better");
+        let after_exchanged = shaped_for_the_mesh(&even, &uv, step, Some(PhotonDensity { exchanged: true, ..first }));
+        assert!(after_exchanged.exchanged, "an exchanged warp changed order for one that fits no better");
+        // The cells' screen edges: 0.8 / 80 of u and 0.2 / 50 of v per 4 px, so L_v / L_u = 2.5
+        // on the square grid, and k = √2.5 → the level 1.49. The grid's columns run along the
+        // window's u in either order, so the exchanged warp wants the same k.
+        let level = GRID_ASPECT_MIN * 2f32.powf(0.25);
+        assert!((first.grid_aspect - level).abs() < 1e-4, "rows first: k {}", first.grid_aspect);
+        assert!((after_exchanged.grid_aspect - level).abs() < 1e-4, "exchanged: k {}", after_exchanged.grid_aspect);
+    }
+
+    #[test]
     fn the_warp_s_order_makes_a_narrow_receiver_s_cells_squarer() {
         // The storage's case in small: the floor under the camera wants many photons over the
         // window's high u, and a wall the light grazes, far off, a strip one band wide along
