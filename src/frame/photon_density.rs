@@ -81,10 +81,11 @@ pub struct PhotonDensity {
     /// u = k / SEGMENTS.
     pub columns: [[f32; KNOTS]; SEGMENTS],
     /// k of the caustic triangles' coarse grid, N/k columns by N·k rows
-    /// (`FrameUniforms::caustic_grid_aspect`; `CellShapes::grid_aspect`); 1 for the beams and the even grid.
+    /// (`FrameUniforms::caustic_grid_aspect`; `CellShapes::grid_aspect`); 1 for the beams and
+    /// the even grid.
     pub grid_aspect: f32,
     /// The window's u and v exchange roles (`FrameUniforms::photon_density_warp` = 2): `rows`
-    /// gives the window's u at grid u, `columns` its v per band of u (`warp_order`).
+    /// gives the window's u at grid u, `columns` its v per band of u (`shaped_for_the_mesh`).
     pub exchanged: bool,
 }
 
@@ -276,7 +277,8 @@ pub fn view_adapted(
     let camera = Vec3::from(u.camera_position).as_dvec3();
     let level = w.level as f64;
     let mut receivers = [[0.0f64; SEGMENTS]; SEGMENTS];
-    // Where each survey ray's receiver takes its photons from, row after row (`CellShapes::survey`).
+    // Where each survey ray's receiver takes its photons from, row after row
+    // (`CellShapes::survey`).
     let mut receiver_uv = [None; RAYS[0] * RAYS[1]];
     let mut crossings = [[0.0f64; SEGMENTS]; SEGMENTS];
     let (mut landed, mut crossed) = (0usize, 0usize);
@@ -424,8 +426,9 @@ fn shaped_for_the_mesh(
 ) -> PhotonDensity {
     let exchanged_uv = receiver_uv.map(|uv| uv.map(|w| Vec2::new(w.y, w.x)));
     let exchanged_density = transposed(density);
-    // Per order: its grid aspect (k of its own grid, whose rows run along the marginal's
-    // axis) and how far its cells stay from square with it.
+    // Per order: the grid aspect in its own frame (for the exchanged order, that of the grid
+    // with u and v exchanged, whose inverse the frame uses) and how far its cells stay from
+    // square with it.
     let fit = |exchanged: bool| {
         let shapes = if exchanged {
             CellShapes::survey(&exchanged_density, &exchanged_uv, ray_step)
@@ -548,7 +551,10 @@ impl CellShapes {
     /// square on screen on average, √ of the geometric mean of L_v / L_u over the rays. The
     /// geometric mean, because that is what the cells' measured edges gave: the recorded
     /// photons' mean cell reads k = 1.11, 0.83 and 1.48 on the tank, the port and the storage,
-    /// this estimate 1.07, 0.86 and 1.47; the median of the ratios read 0.95, 0.78 and 1.51.
+    /// this estimate from the histogram's densities 1.07, 0.86 and 1.47 (the median of the
+    /// ratios 0.95, 0.78 and 1.51). From the warp's slopes, as since the warp's order, it reads
+    /// 0.89, 0.80 and 1.35 at 320×200 (the pixels weigh alike, where the recorded cells
+    /// weigh by photon), and the levels stay the square, 0.8 and 1.25 (1.49 at 1440×850).
     fn grid_aspect(&self) -> f32 {
         let mean = self.log_ratio_sum / self.rays as f64;
         ((0.5 * mean).exp() as f32).clamp(1.0 / GRID_ASPECT_MAX, GRID_ASPECT_MAX)
@@ -564,11 +570,11 @@ impl CellShapes {
     }
 }
 
-/// The grid aspect the frame uses for the estimate `k` (`CellShapes::grid_aspect`): the square grid for k
-/// within `GRID_ASPECT_MIN` either way; beyond it, `GRID_ASPECT_MIN` times the nearest whole
-/// number of quarter octaves (1.25, 1.49, 1.77, then `GRID_ASPECT_MAX`, and their inverses);
-/// and the `previous` survey's level while one within `GRID_ASPECT_HYSTERESIS` of a level of
-/// `k` would still choose it.
+/// The grid aspect the frame uses for the estimate `k` (`CellShapes::grid_aspect`): the square
+/// grid for k within `GRID_ASPECT_MIN` either way; beyond it, `GRID_ASPECT_MIN` times the
+/// nearest whole number of quarter octaves (1.25, 1.49, 1.77, then `GRID_ASPECT_MAX`, and their
+/// inverses); and the `previous` survey's level while one within `GRID_ASPECT_HYSTERESIS` of a
+/// level of `k` would still choose it.
 ///
 /// Why levels: the grid has round(N / k) columns, and each change of k that changes them
 /// moves every photon by up to a cell, so while the viewer's camera moves, a k that followed
