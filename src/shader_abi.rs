@@ -128,10 +128,11 @@ frame_uniforms! {
     /// `refracted_texel_stretch` for the second maps.
     steep_texel_stretch: f32,
     /// The caustic photon grid's warp (`frame::photon_density`): the inverse cumulative
-    /// density of the window's v, `PHOTON_DENSITY_KNOTS` knots at grid v = k / SEGMENTS.
+    /// density of the window's v, `PHOTON_DENSITY_KNOTS` knots at grid v = k / SEGMENTS (of
+    /// its u, at grid u, where `photon_density_warp` is 2).
     photon_density_rows: [f32; PHOTON_DENSITY_KNOTS],
     /// And of the window's u, one row of knots per band of the window's v
-    /// (`PHOTON_DENSITY_SEGMENTS` bands), row after row.
+    /// (`PHOTON_DENSITY_SEGMENTS` bands), row after row (u and v exchanged in mode 2).
     photon_density_columns: [f32; PHOTON_DENSITY_KNOTS * PHOTON_DENSITY_SEGMENTS],
     /// The godray grid's warp, alike (`frame::photon_density`, for the beams).
     godray_density_rows: [f32; PHOTON_DENSITY_KNOTS],

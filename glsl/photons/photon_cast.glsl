@@ -35,9 +35,10 @@ struct Photon {
 // densities in the frame's uniforms: the window's v from the rows' knots, the window's u from
 // the knots of the two bands of v around it, interpolated so that neighbouring photons stay
 // neighbours. In mode 2 (DENSITY_WARP) the window's u and v exchange those roles, and so do
-// the grid's: the survey picks the order whose mesh cells are squarer on screen. The caustics' warp follows the pixels that see where photons land, the godray
-// beams' the view rays' length through the water above where they enter
-// (effects.caustic_photon_density, godray_photon_density).
+// the grid's: the survey picks the order whose mesh cells are squarer on screen. The
+// caustics' warp follows the pixels that see where photons land, the godray beams' the view
+// rays' length through the water above where they enter (effects.caustic_photon_density,
+// godray_photon_density).
 #ifdef PHOTON_BEAMS
 #define DENSITY_WARP frame.godray_density_warp
 #define DENSITY_ROWS frame.godray_density_rows

@@ -77,7 +77,7 @@ layout(set = 0, binding = BINDING_UNIFORMS, std430) readonly buffer FrameUniform
     // The caustic photon grid's warp (frame::photon_density, photon_cast.glsl's
     // photon_density_warp): inverse cumulative densities, PHOTON_DENSITY_KNOTS knots each. Rows:
     // the window's v at grid v = k / (knots − 1). Columns: one row of knots per band of the
-    // window's v, the window's u at grid u = k / (knots − 1).
+    // window's v, the window's u at grid u = k / (knots − 1). Warp mode 2: u and v exchanged.
     float photon_density_rows[32];
     float photon_density_columns[992];
     // The godray grid's warp, alike.

@@ -531,7 +531,8 @@ impl CellShapes {
                 }
                 let per_u = DVec2::new(b.y, -a.y) / det;
                 let per_v = DVec2::new(-b.x, a.x) / det;
-                // The screen's part held within its bounds; the warp's part is exact.
+                // The screen's part held within its bounds; the warp's part is its own slopes,
+                // unbounded (the shear the bands' interpolation adds is left out).
                 let screen_ratio = per_v.length() / per_u.length();
                 let slopes = warp.slopes_at(w);
                 let warp_ratio = slopes.y / slopes.x;
@@ -763,9 +764,10 @@ mod tests {
     fn the_exchanged_warp_is_the_mirror_of_the_transposed_density_s() {
         // A density with no symmetry between u and v: the exchanged warp of h must place every
         // photon where the rows-first warp of h's transpose places the mirrored grid position,
-        // mirrored, with the same cell area; and the survey must choose mirrored warps for
-        // mirrored views (a u and v mixed up anywhere, in the shader's twin, the histogram's
-        // transpose or the grid aspect's inversion, breaks one of these).
+        // mirrored, with the same cell area (the twin's exchange of g, the half cell and the
+        // result); and the survey must choose mirrored warps for mirrored views (the grid
+        // aspect's inversion, the cell shapes' u and v). The histogram's transpose is checked
+        // by the dense block of `a_warp_puts_photons_where_the_density_is...`, in either order.
         let mut h = [[0.0f64; SEGMENTS]; SEGMENTS];
         for (j, row) in h.iter_mut().enumerate() {
             for (i, value) in row.iter_mut().enumerate() {
