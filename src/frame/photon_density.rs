@@ -161,26 +161,35 @@ impl PhotonDensity {
         PhotonDensity { exchanged: true, ..Self::from_histogram(&transposed(h)) }
     }
 
-    /// The warp's slopes at window position `w` (rows first): d(window u)/d(grid u) and
-    /// d(window v)/d(grid v), each constant between two knots. The photon spacing there is the
-    /// grid's times these; they follow the histogram only as finely as the knots do, which
-    /// in the sparse parts of the window is coarser than the bands.
-    fn slopes_at(&self, w: Vec2) -> DVec2 {
+    /// The warp's derivatives at window position `w` (rows first): d(window u)/d(grid u),
+    /// d(window v)/d(grid v), and the shear d(window u)/d(grid v) that the interpolation between
+    /// the bands of v adds where neighbouring bands differ. The mesh cell's edges there are
+    /// the grid's spacings times these; they follow the histogram only as finely as the knots
+    /// do, which in the sparse parts of the window is coarser than the bands.
+    fn derivatives_at(&self, w: Vec2) -> WarpDerivatives {
         let s = SEGMENTS as f64;
         // The segment of a piecewise-linear increasing function (values at k / SEGMENTS) that
-        // holds x, and its slope.
-        let slope = |at: &dyn Fn(usize) -> f64, x: f64| {
+        // holds x: its index, x's share of it, and its slope.
+        let segment = |at: &dyn Fn(usize) -> f64, x: f64| {
             let k = (1..SEGMENTS).take_while(|&k| at(k) <= x).last().unwrap_or(0);
-            (at(k + 1) - at(k)) * s
+            let rise = at(k + 1) - at(k);
+            let t = if rise > 0.0 { ((x - at(k)) / rise).clamp(0.0, 1.0) } else { 0.0 };
+            (k, t, rise * s)
         };
         let v = w.y as f64;
-        let v_slope = slope(&|k| self.rows[k] as f64, v);
-        let band = (v * s - 0.5).clamp(0.0, s - 1.0);
+        let (_, _, v_slope) = segment(&|k| self.rows[k] as f64, v);
+        let unclamped = v * s - 0.5;
+        let band = unclamped.clamp(0.0, s - 1.0);
         let j = (band as usize).min(SEGMENTS - 2);
         let f = band - j as f64;
         let (a, b) = (&self.columns[j], &self.columns[j + 1]);
-        let u_slope = slope(&|k| a[k] as f64 + (b[k] as f64 - a[k] as f64) * f, w.x as f64);
-        DVec2::new(u_slope, v_slope)
+        let at = |c: &[f32; KNOTS], k: usize| c[k] as f64;
+        let (k, t, u_slope) = segment(&|k| at(a, k) + (at(b, k) - at(a, k)) * f, w.x as f64);
+        // d(window u)/d(window v) at fixed grid u: the two bands' knots, interpolated at the
+        // photon's grid u, over the band's width (none where the band is held at the edges).
+        let between = |c: &[f32; KNOTS]| at(c, k) + (at(c, k + 1) - at(c, k)) * t;
+        let du_dv = if unclamped == band { (between(b) - between(a)) * s } else { 0.0 };
+        WarpDerivatives { u_by_grid_u: u_slope, v_by_grid_v: v_slope, u_by_grid_v: du_dv * v_slope }
     }
 
     /// The warp's densest cell against its mean: how much finer the mesh is there than the
@@ -401,8 +410,7 @@ const GRID_ASPECT_LEVELS_PER_OCTAVE: f32 = 4.0;
 const GRID_ASPECT_HYSTERESIS: f32 = 0.25;
 /// The screen's part of a survey ray's L_v / L_u counts as at most 16 either way
 /// (`CellShapes::survey`): neighbours on two receivers give steps of no meaning, and unbounded
-/// they would rule the mean. The warp's part is not bounded: it is the warp's own, and
-/// bounding it hid how long the rows-first warp's cells grow where a band is shared.
+/// they would rule the mean. The warp's part is not bounded (`CellShapes::survey`).
 const OUTLIER_LOG_RATIO: f64 = 2.772_588_722_239_781; // ln 16
 
 /// The caustic triangles' warp of `density`: in the order whose mesh cells come out squarer
@@ -473,8 +481,8 @@ fn shaped_for_the_mesh(
 /// previous survey's order, rows first for the first survey, before the warp changes order
 /// (`shaped_for_the_mesh`). A change moves every photon, so an order kept while the camera
 /// moves re-samples the caustic only when it pays. Where the two fit about alike, as on the
-/// tank (1.20 rows first against 1.09 exchanged at 320×200, 1.19 against 1.17 at 800×800),
-/// neither reads better against the reference; the storage's exchanged order fits at 0.63
+/// tank (1.03 rows first against 1.04 exchanged at 320×200, 1.18 against 1.25 at 800×800),
+/// neither reads better against the reference; the storage's exchanged order fits at 0.75
 /// of the rows-first one's misfit and lowers its error (docs/accuracy.md, "The warp's order").
 const WARP_ORDER_SWITCH: f64 = 0.85;
 
@@ -492,10 +500,10 @@ const WARP_ORDER_SWITCH: f64 = 0.85;
 ///
 /// How: for each survey ray whose two neighbours (across and down the screen) also reached a
 /// receiver, the three entry points give the screen's step per window step (the inverse of
-/// their differences, in pixels); the warp's spacing there is its slope along each axis over
-/// N (`PhotonDensity::slopes_at`, the warp of `density`, rows first). Their product is the
-/// length of a mesh cell's edge along u and along v on screen. The screen's part of each ratio
-/// is held within 1/16 and 16 (`OUTLIER_LOG_RATIO`).
+/// their differences, in pixels); the warp's derivatives there (`PhotonDensity::
+/// derivatives_at`, the warp of `density`, rows first: along each axis, and the shear of u
+/// along grid v) over N turn them into a mesh cell's two edges on screen. The screen's part is
+/// held within 1/16 and 16 (`OUTLIER_LOG_RATIO`).
 #[derive(Clone, Copy, Debug)]
 struct CellShapes {
     rays: usize,
@@ -531,13 +539,23 @@ impl CellShapes {
                 }
                 let per_u = DVec2::new(b.y, -a.y) / det;
                 let per_v = DVec2::new(-b.x, a.x) / det;
-                // The screen's part held within its bounds; the warp's part is its own slopes,
-                // unbounded (the shear the bands' interpolation adds is left out).
+                // The screen's part held within its bounds (per_v rescaled so that its length
+                // over per_u's stays within them); the warp's part is its own, unbounded:
+                // bounding it hid how long the rows-first warp's cells grow where a band is
+                // shared.
                 let screen_ratio = per_v.length() / per_u.length();
-                let slopes = warp.slopes_at(w);
-                let warp_ratio = slopes.y / slopes.x;
-                if screen_ratio.is_finite() && screen_ratio > 0.0 && warp_ratio.is_finite() && warp_ratio > 0.0 {
-                    let log_ratio = screen_ratio.ln().clamp(-OUTLIER_LOG_RATIO, OUTLIER_LOG_RATIO) + warp_ratio.ln();
+                if !(screen_ratio.is_finite() && screen_ratio > 0.0) {
+                    continue;
+                }
+                let bound = OUTLIER_LOG_RATIO.exp();
+                let per_v = per_v * (screen_ratio.clamp(1.0 / bound, bound) / screen_ratio);
+                // A mesh cell's edges on screen, per unit of grid u and of grid v.
+                let d = warp.derivatives_at(w);
+                let edge_u = per_u * d.u_by_grid_u;
+                let edge_v = per_u * d.u_by_grid_v + per_v * d.v_by_grid_v;
+                let ratio = edge_v.length() / edge_u.length();
+                if ratio.is_finite() && ratio > 0.0 {
+                    let log_ratio = ratio.ln();
                     shapes.log_ratio_sum += log_ratio;
                     shapes.log_ratio_squares += log_ratio * log_ratio;
                     shapes.rays += 1;
@@ -553,9 +571,9 @@ impl CellShapes {
     /// geometric mean, because that is what the cells' measured edges gave: the recorded
     /// photons' mean cell reads k = 1.11, 0.83 and 1.48 on the tank, the port and the storage,
     /// this estimate from the histogram's densities 1.07, 0.86 and 1.47 (the median of the
-    /// ratios 0.95, 0.78 and 1.51). From the warp's slopes, as since the warp's order, it reads
-    /// 0.89, 0.80 and 1.35 at 320×200 (the pixels weigh alike, where the recorded cells
-    /// weigh by photon), and the levels stay the square, 0.8 and 1.25 (1.49 at 1440×850).
+    /// ratios 0.95, 0.78 and 1.51). From the warp's derivatives, as since the warp's order, it
+    /// reads 1.00, 0.80 and 1.31 at 320×200 (the pixels weigh alike, where the recorded cells
+    /// weigh by photon), and the levels stay the square, 0.8 and 1.25.
     fn grid_aspect(&self) -> f32 {
         let mean = self.log_ratio_sum / self.rays as f64;
         ((0.5 * mean).exp() as f32).clamp(1.0 / GRID_ASPECT_MAX, GRID_ASPECT_MAX)
@@ -616,6 +634,15 @@ fn survey_density(counts: [[f64; SEGMENTS]; SEGMENTS]) -> [[f64; SEGMENTS]; SEGM
         *d += FLOOR * mean;
     }
     density
+}
+
+/// `PhotonDensity::derivatives_at`: the window's displacement per unit of grid u (along u
+/// only) and per unit of grid v (along v, and along u by the shear).
+#[derive(Clone, Copy, Debug)]
+struct WarpDerivatives {
+    u_by_grid_u: f64,
+    v_by_grid_v: f64,
+    u_by_grid_v: f64,
 }
 
 /// The histogram `h` (`[v band][u band]`) with u and v exchanged.
@@ -807,6 +834,37 @@ mod tests {
             view.grid_aspect,
             mirrored.grid_aspect
         );
+    }
+
+    #[test]
+    fn the_cell_shapes_read_the_warp_s_own_derivatives() {
+        // `derivatives_at` (what the order's choice measures cells by) against finite
+        // differences of the twin's warp, shear included, on a density whose bands differ.
+        let mut h = [[0.0f64; SEGMENTS]; SEGMENTS];
+        for (j, row) in h.iter_mut().enumerate() {
+            for (i, value) in row.iter_mut().enumerate() {
+                *value = 0.2 + ((i * 5 + j * 3) % 7) as f64 * (1.0 + j as f64 / 6.0);
+            }
+        }
+        let warp = PhotonDensity::from_histogram(&h);
+        let (step, half) = (1e-4f32, Vec2::splat(1e-3));
+        let mut sheared = 0;
+        for g in [Vec2::new(0.21, 0.37), Vec2::new(0.66, 0.52), Vec2::new(0.43, 0.81), Vec2::new(0.9, 0.3)] {
+            let w = warp.warp(g, half).0;
+            let by_u = (warp.warp(g + Vec2::X * step, half).0 - w) / step;
+            let by_v = (warp.warp(g + Vec2::Y * step, half).0 - w) / step;
+            let d = warp.derivatives_at(w);
+            let close = |a: f64, b: f32| (a - b as f64).abs() < 0.02 * (a.abs() + b.abs() as f64).max(0.05);
+            assert!(
+                close(d.u_by_grid_u, by_u.x) && by_u.y.abs() < 1e-3,
+                "{g}: u by grid u {} against {by_u}",
+                d.u_by_grid_u
+            );
+            assert!(close(d.v_by_grid_v, by_v.y), "{g}: v by grid v {} against {}", d.v_by_grid_v, by_v.y);
+            assert!(close(d.u_by_grid_v, by_v.x), "{g}: shear {} against {}", d.u_by_grid_v, by_v.x);
+            sheared += (by_v.x.abs() > 0.05) as usize;
+        }
+        assert!(sheared > 0, "the density's bands should shear the mesh");
     }
 
     #[test]
