@@ -305,19 +305,27 @@ bool cast_photon(vec2 uv, vec2 photons_per_axis, out Photon ph) {
     ph.surface = ps;
     ph.direction = rt;
 
-    // The first maps, then, for a photon they cannot place, the second (steeper) ones.
-    vec3 hit;
-    float dist;
-    int fate = intersect_receivers(ps, rt, false, hit, dist);
-    if (fate != PHOTON_LANDED && frame.steep_light_axis.y < -1e-3) {
-        vec3 steep_hit;
-        float steep_dist;
-        if (intersect_receivers(ps, rt, true, steep_hit, steep_dist) == PHOTON_LANDED) {
-            fate = PHOTON_LANDED;
-            hit = steep_hit;
-            dist = steep_dist;
-            ph.steep_map = true;
+    // The first maps, then, for a photon they cannot place, the second (steeper) ones. A
+    // loop over the two pairs rather than two calls, so that the search is compiled once: on
+    // lavapipe the second inlined copy, though few photons run it, cost 10-15 % of the
+    // paper-800 caustic pass (docs/performance.md, "One copy of the search"). Where the
+    // second maps place nothing either, the first maps' outcome stands.
+    vec3 hit = ps;
+    float dist = 0.0;
+    int fate = PHOTON_LEAVES_MAP;
+    int map_pairs = frame.steep_light_axis.y < -1e-3 ? 2 : 1;
+    for (int pair = 0; pair < map_pairs; ++pair) {
+        bool steep = pair == 1;
+        vec3 pair_hit;
+        float pair_dist;
+        int pair_fate = intersect_receivers(ps, rt, steep, pair_hit, pair_dist);
+        if (!steep || pair_fate == PHOTON_LANDED) {
+            fate = pair_fate;
+            hit = pair_hit;
+            dist = pair_dist;
+            ph.steep_map = steep;
         }
+        if (fate == PHOTON_LANDED) break;
     }
     if (fate == PHOTON_LEAVES_MAP) { photon_fate = fate; return false; }
     if (fate == PHOTON_NOT_CONVERGED) {
