@@ -548,31 +548,29 @@ void main() {
         }
     }
     // Mesh cell (i, j) spans photons (i, j), (i+1, j), (i, j+1), (i+1, j+1), split along the
-    // shorter diagonal (split_along_p00_p11).
+    // shorter diagonal (split_along_p00_p11): into (p00, p10, p11) and (p00, p11, p01) along
+    // p00-p11, else into (p00, p10, p01) and (p10, p11, p01). The corners are picked before
+    // the two calls rather than in an if and an else with two calls each: llvmpipe runs
+    // both sides of a branch for every lane, masked, and the triangles are most of the
+    // shader's work (docs/performance.md, "One copy of the search").
     for (int j = 0; j + 1 < side; ++j) {
         for (int i = 0; i + 1 < side; ++i) {
             if (!mesh_cell_drawn(cell, i, j)) continue;
             int p00 = j * side + i, p10 = p00 + 1, p01 = p00 + side, p11 = p01 + 1;
-            if (split_along_p00_p11(p00, p10, p01, p11)) {
-                gather_triangle(p00, p10, p11, QUARTER_PLUS_U_PLUS_V, QUARTER_MINUS_U_PLUS_V, QUARTER_MINUS_U_MINUS_V);
-                gather_triangle(p00, p11, p01, QUARTER_PLUS_U_PLUS_V, QUARTER_MINUS_U_MINUS_V, QUARTER_PLUS_U_MINUS_V);
-            } else {
-                gather_triangle(p00, p10, p01, QUARTER_PLUS_U_PLUS_V, QUARTER_MINUS_U_PLUS_V, QUARTER_PLUS_U_MINUS_V);
-                gather_triangle(p10, p11, p01, QUARTER_MINUS_U_PLUS_V, QUARTER_MINUS_U_MINUS_V, QUARTER_PLUS_U_MINUS_V);
-            }
+            bool split = split_along_p00_p11(p00, p10, p01, p11);
+            gather_triangle(p00, p10, split ? p11 : p01, QUARTER_PLUS_U_PLUS_V, QUARTER_MINUS_U_PLUS_V,
+                            split ? QUARTER_MINUS_U_MINUS_V : QUARTER_PLUS_U_MINUS_V);
+            gather_triangle(split ? p00 : p10, p11, p01, split ? QUARTER_PLUS_U_PLUS_V : QUARTER_MINUS_U_PLUS_V,
+                            QUARTER_MINUS_U_MINUS_V, QUARTER_PLUS_U_MINUS_V);
         }
     }
     for (int j = 0; j + 1 < side; ++j) {
         for (int i = 0; i + 1 < side; ++i) {
             if (!mesh_cell_drawn(cell, i, j)) continue;
             int p00 = j * side + i, p10 = p00 + 1, p01 = p00 + side, p11 = p01 + 1;
-            if (split_along_p00_p11(p00, p10, p01, p11)) {
-                emit_triangle(p00, p10, p11);
-                emit_triangle(p00, p11, p01);
-            } else {
-                emit_triangle(p00, p10, p01);
-                emit_triangle(p10, p11, p01);
-            }
+            bool split = split_along_p00_p11(p00, p10, p01, p11);
+            emit_triangle(p00, p10, split ? p11 : p01);
+            emit_triangle(split ? p00 : p10, p11, p01);
         }
     }
     search_borders(side, photons_per_axis);
