@@ -224,6 +224,15 @@ pub const WATER_MAX_MARCH_STEPS: u32 = 64;
 pub const WATER_REFINE_STEPS: u32 = 8;
 pub const WATER_REFINE_RESIDUAL: f32 = 1e-4;
 pub const WATER_NOISE_FEATURE: f32 = 1.0 / 16.0;
+/// GLSL `WATER_NOISE_SLOPE`: the steepest slope of the noise texture's surface per unit of
+/// noise amplitude, in tiles (`tests::the_noise_slope_bound_holds` measures it).
+pub const WATER_NOISE_SLOPE: f32 = 28.1;
+
+/// GLSL `water_slope_bound`: the surface's steepest slope.
+pub fn water_slope_bound(w: &WaterParams) -> f32 {
+    w.amplitude.abs() * 2.0 * std::f32::consts::PI / w.wavelength
+        + w.noise_amplitude.abs() / w.noise_scale * WATER_NOISE_SLOPE
+}
 
 /// GLSL `ITERATION_RESIDUAL` (photon_cast.glsl): the image-space iteration stops at this
 /// residual per metre of distance.
@@ -240,9 +249,12 @@ fn water_height_above_surface(w: &WaterParams, noise: &NoiseTexture, o: Vec3, d:
     p.y - w.level - water_height_grad(w, noise, p.xz(), time).x
 }
 
-/// GLSL `water_intersect`: ray parameter of the hit with the surface, negative for none. A
-/// march through the slab the waves fill, then Illinois regula falsi in the step that
-/// crosses; a result off the surface by more than 1 % of the waves' height is a miss.
+/// GLSL `water_intersect`: ray parameter of the hit with the surface, negative for none.
+/// Newton's method from the mean plane's crossing where the ray falls more than twice as
+/// steeply as the surface can rise along it (one crossing); otherwise a march through the
+/// slab the waves fill, then Illinois regula falsi in the step that crosses. A result off the
+/// surface by more than 1 % of the waves' height is a miss. The GLSL runs both searches in
+/// one loop (see there why); this makes the same evaluations in the same order.
 pub fn water_intersect(w: &WaterParams, noise: &NoiseTexture, o: Vec3, d: Vec3, time: f32) -> f32 {
     if d.y >= -1e-6 {
         return -1.0;
@@ -256,6 +268,66 @@ pub fn water_intersect(w: &WaterParams, noise: &NoiseTexture, o: Vec3, d: Vec3, 
     if bound == 0.0 {
         return t_bottom;
     }
+    if o.y > w.level + bound && water_slope_bound(w) * Vec2::new(d.x, d.z).length() <= -0.5 * d.y {
+        return water_intersect_newton(w, noise, o, d, time, t_top, t_bottom, bound);
+    }
+    water_intersect_marched(w, noise, o, d, time, t_top, t_bottom, bound)
+}
+
+/// `water_intersect`'s Newton steps on the height above the surface, kept inside the bracket
+/// the evaluations leave (a bisection where a step would leave it).
+#[allow(clippy::too_many_arguments)]
+fn water_intersect_newton(
+    w: &WaterParams,
+    noise: &NoiseTexture,
+    o: Vec3,
+    d: Vec3,
+    time: f32,
+    t_top: f32,
+    t_bottom: f32,
+    bound: f32,
+) -> f32 {
+    let (mut ta, mut tb) = (t_top, t_bottom);
+    // GLSL clamp: min(max(x, lo), hi).
+    let mut t = ((w.level - o.y) / d.y).max(t_top).min(t_bottom);
+    let (mut best_t, mut best_f) = (-1.0f32, 1e30f32);
+    for refinement in 0..=WATER_REFINE_STEPS {
+        let p = o + t * d;
+        let hg = water_height_grad(w, noise, p.xz(), time);
+        let f = p.y - w.level - hg.x;
+        if f.abs() < best_f {
+            (best_t, best_f) = (t, f.abs());
+        }
+        if best_f <= WATER_REFINE_RESIDUAL * bound || refinement == WATER_REFINE_STEPS {
+            break;
+        }
+        if f > 0.0 {
+            ta = t;
+        } else {
+            tb = t;
+        }
+        let next = t - f / (d.y - (hg.y * d.x + hg.z * d.z));
+        t = if next > ta && next < tb { next } else { 0.5 * (ta + tb) };
+    }
+    if best_f <= 0.01 * bound + 1e-4 {
+        best_t
+    } else {
+        -1.0
+    }
+}
+
+/// `water_intersect`'s march and refinement.
+#[allow(clippy::too_many_arguments)]
+fn water_intersect_marched(
+    w: &WaterParams,
+    noise: &NoiseTexture,
+    o: Vec3,
+    d: Vec3,
+    time: f32,
+    t_top: f32,
+    t_bottom: f32,
+    bound: f32,
+) -> f32 {
     let f = |t: f32| water_height_above_surface(w, noise, o, d, t, time);
     let (mut ta, mut fa) = (t_top, f(t_top));
     if fa <= 0.0 {
@@ -876,6 +948,72 @@ mod tests {
         let p = o + t * d;
         let h = water_height_grad(&w, &noise, p.xz(), 2.0).x;
         assert!((p.y - (w.level + h)).abs() < 1e-4, "{} vs {}", p.y, h);
+    }
+
+    #[test]
+    fn the_noise_slope_bound_holds() {
+        // Both slopes the crossing's search meets: the stored derivatives (the gradient that
+        // Newton's steps use) and the bilinear surface's own, between neighbouring texels.
+        let noise = NoiseTexture::generate();
+        let n = noise.size as i32;
+        let size = noise.size as f32;
+        let (mut stored, mut between) = (0.0f32, 0.0f32);
+        for y in 0..n {
+            for x in 0..n {
+                let t = noise.texel(x, y);
+                stored = stored.max(Vec2::new(t.y, t.z).length());
+                let du = (noise.texel(x + 1, y).x - t.x)
+                    .abs()
+                    .max((noise.texel(x + 1, y + 1).x - noise.texel(x, y + 1).x).abs());
+                let dv = (noise.texel(x, y + 1).x - t.x)
+                    .abs()
+                    .max((noise.texel(x + 1, y + 1).x - noise.texel(x + 1, y).x).abs());
+                between = between.max(Vec2::new(du, dv).length() * size);
+            }
+        }
+        let steepest = stored.max(between);
+        assert!(steepest <= WATER_NOISE_SLOPE, "noise slope {steepest} (stored {stored}, between {between})");
+        // Not loose either: a bound far above the slope sends steep rays to the march.
+        assert!(steepest > 0.99 * WATER_NOISE_SLOPE, "noise slope {steepest} against {WATER_NOISE_SLOPE}");
+    }
+
+    #[test]
+    fn newton_and_the_march_find_the_same_crossing() {
+        // Rays that fall steeply enough for Newton's steps, over both wave models and the
+        // noise: both searches must land on the one crossing. Each stops within
+        // WATER_REFINE_RESIDUAL of the waves' height, and the height falls by at least half
+        // the ray's fall per unit of t, so the two differ by at most 4 × that over the fall.
+        let noise = NoiseTexture::generate();
+        for model in [WaterModel::CircularCosine, WaterModel::AxisCosineNoise] {
+            let w = water(model);
+            let bound = w.amplitude.abs() + w.noise_amplitude.abs();
+            for k in 0..400 {
+                let a = k as f32 * 0.618_034;
+                let o = Vec3::new(4.0 * (a * 7.3).sin(), 3.0, 4.0 * (a * 3.1).cos());
+                let slope = 0.5 / water_slope_bound(&w) * (0.2 + 0.8 * (a * 1.7).sin().abs());
+                let d = Vec3::new(slope * (a * 5.0).cos(), -1.0, slope * (a * 5.0).sin()).normalize();
+                let time = 0.37 * k as f32;
+                assert!(water_slope_bound(&w) * Vec2::new(d.x, d.z).length() <= -0.5 * d.y);
+                let t_top = (w.level + bound - o.y) / d.y;
+                let t_bottom = (w.level - bound - o.y) / d.y;
+                let by_newton = water_intersect(&w, &noise, o, d, time);
+                let marched = water_intersect_marched(&w, &noise, o, d, time, t_top, t_bottom, bound);
+                assert!(by_newton > 0.0 && marched > 0.0, "{model:?} ray {k}: {by_newton} / {marched}");
+                let allowed = 4.0 * WATER_REFINE_RESIDUAL * bound / -d.y;
+                assert!(
+                    (by_newton - marched).abs() <= allowed,
+                    "{model:?} ray {k}: Newton {by_newton}, march {marched} (allowed {allowed})"
+                );
+                let p = o + by_newton * d;
+                let h = water_height_grad(&w, &noise, p.xz(), time).x;
+                assert!((p.y - w.level - h).abs() <= WATER_REFINE_RESIDUAL * bound, "{model:?} ray {k}");
+            }
+        }
+        // A ray that falls less steeply than the surface can rise is marched: the condition
+        // that sends rays to Newton's steps does not hold for it.
+        let w = water(WaterModel::CircularCosine);
+        let grazing = Vec3::new(1.0, -0.3, 0.0).normalize();
+        assert!(water_slope_bound(&w) * grazing.x > -0.5 * grazing.y);
     }
 
     #[test]

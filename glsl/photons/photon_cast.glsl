@@ -282,7 +282,8 @@ bool cast_photon(vec2 uv, vec2 photons_per_axis, out Photon ph) {
     ph.flux = flux;
 
     WaterParams w = frame_water();
-    float t = water_intersect(w, noise_tex, o, d, frame_water_phase());
+    vec3 hg; // the surface's height and gradient where the ray crosses it (its normal below)
+    float t = water_intersect(w, noise_tex, o, d, frame_water_phase(), hg);
     if (!(t > 0.0)) { photon_fate = PHOTON_MISSES_WATER; return false; }
     vec3 ps = o + t * d;
     if (!water_covers(w, ps.xz)) { photon_fate = PHOTON_OUTSIDE_WATER; return false; }
@@ -293,7 +294,6 @@ bool cast_photon(vec2 uv, vec2 photons_per_axis, out Photon ph) {
         vec4 first = texelFetch(light_position, texel, 0);
         if (first.w > 0.0 && dot(first.xyz - o, d) < t - 1e-3) { photon_fate = PHOTON_BLOCKED_ABOVE; return false; }
     }
-    vec3 hg = water_height_grad(w, noise_tex, ps.xz, frame_water_phase());
     vec3 n = water_normal_from_grad(hg.yz);
     float cos_i = dot(-d, n);
     if (cos_i <= 0.0) { photon_fate = PHOTON_BACK_OF_WAVE; return false; } // the back of a steep wave

@@ -144,54 +144,112 @@ const float WATER_REFINE_RESIDUAL = 1e-4;
 // most of their height is in the first two.
 const float WATER_NOISE_FEATURE = 1.0 / 16.0;
 
-float water_height_above_surface(WaterParams w, sampler2D noise, vec3 o, vec3 d, float t, vec3 phase) {
-    vec3 p = o + t * d;
-    return p.y - w.level - water_height_grad(w, noise, p.xz, phase).x;
+// The steepest slope of the noise texture's surface per unit of noise amplitude, in tiles
+// (Rust twin: shader_math::WATER_NOISE_SLOPE, whose test measures it on the texture: 28.04
+// for the stored derivatives, 27.65 between neighbouring texels' values).
+const float WATER_NOISE_SLOPE = 28.1;
+
+// The surface's steepest slope: the waves' amplitude × wavenumber, plus the noise's.
+float water_slope_bound(WaterParams w) {
+    return abs(w.amplitude) * 2.0 * PI / w.wavelength + abs(w.noise_amplitude) / w.noise_scale * WATER_NOISE_SLOPE;
 }
 
-float water_intersect(WaterParams w, sampler2D noise, vec3 o, vec3 d, vec3 phase) {
+// The search's stages, in the order a ray takes them: the slab's top, its floor, the march's
+// steps, the refinement's steps; or, for a ray that falls steeply enough, Newton's steps.
+const int WATER_AT_TOP = 0;
+const int WATER_AT_FLOOR = 1;
+const int WATER_MARCHING = 2;
+const int WATER_REFINING = 3;
+const int WATER_NEWTON = 4;
+
+// Where the ray falls more than twice as steeply as the surface can rise along it
+// (water_slope_bound), its height above the surface falls through the slab by at least half
+// the ray's fall per unit of t: there is one crossing, and Newton's method on that height
+// finds it from the mean plane's crossing in two or three evaluations, where the march and
+// its refinement take about ten. Each Newton step stays inside the bracket the evaluations
+// so far leave, and bisects it where it would leave it. Every other ray is marched.
+//
+// The two searches share one loop and one evaluation of the surface, each lane taking its
+// own stage's step: llvmpipe runs both sides of a branch for every lane, so a branch to a
+// Newton search beside the march cost as much as the march (docs/performance.md, "One copy
+// of the search"), while a loop stops once no lane needs another pass. The Rust twin,
+// shader_math::water_intersect, makes the same evaluations as two separate searches.
+// `height_grad`: the surface's height and gradient at the crossing, for its normal.
+float water_intersect(WaterParams w, sampler2D noise, vec3 o, vec3 d, vec3 phase, out vec3 height_grad) {
+    height_grad = vec3(0.0);
     if (d.y >= -1e-6) return -1.0;
     float bound = abs(w.amplitude) + abs(w.noise_amplitude);
     float t_top = max((w.level + bound - o.y) / d.y, 0.0);
     float t_bottom = (w.level - bound - o.y) / d.y;
     if (t_bottom < t_top) return -1.0;
     if (bound == 0.0) return t_bottom; // flat: the mean plane
-    float ta = t_top, fa = water_height_above_surface(w, noise, o, d, ta, phase);
-    if (fa <= 0.0) return ta; // starts at or below the surface
     float feature = min(w.amplitude > 0.0 ? w.wavelength : 1e30,
                         w.noise_amplitude > 0.0 ? w.noise_scale * WATER_NOISE_FEATURE : 1e30);
     float horizontal = (t_bottom - t_top) * length(d.xz);
     int steps = int(clamp(ceil(4.0 * horizontal / feature), 8.0, float(WATER_MAX_MARCH_STEPS)));
     float dt = (t_bottom - t_top) / float(steps);
-    float tb = t_bottom, fb = water_height_above_surface(w, noise, o, d, tb, phase);
-    for (int i = 1; i < steps; ++i) {
-        float t = t_top + float(i) * dt;
-        float f = water_height_above_surface(w, noise, o, d, t, phase);
-        if (f <= 0.0) { tb = t; fb = f; break; }
-        ta = t; fa = f;
+    float ta = t_top, fa = 0.0, tb = t_bottom, fb = 0.0, best_t = -1.0, best_f = 1e30;
+    vec3 hg_b = vec3(0.0), best_hg = vec3(0.0);
+    bool monotone = o.y > w.level + bound && water_slope_bound(w) * length(d.xz) <= -0.5 * d.y;
+    int stage = monotone ? WATER_NEWTON : WATER_AT_TOP, march_step = 1, refinement = 0, kept = 0;
+    float t = monotone ? clamp((w.level - o.y) / d.y, t_top, t_bottom) : t_top;
+    for (int evaluation = 0; evaluation < WATER_MAX_MARCH_STEPS + WATER_REFINE_STEPS + 2; ++evaluation) {
+        vec3 p = o + t * d;
+        vec3 hg = water_height_grad(w, noise, p.xz, phase);
+        float f = p.y - w.level - hg.x;
+        if (stage == WATER_NEWTON) {
+            if (abs(f) < best_f) { best_t = t; best_f = abs(f); best_hg = hg; }
+            if (best_f <= WATER_REFINE_RESIDUAL * bound || refinement == WATER_REFINE_STEPS) break;
+            if (f > 0.0) ta = t; else tb = t;
+            float next = t - f / (d.y - dot(hg.yz, d.xz));
+            t = next > ta && next < tb ? next : 0.5 * (ta + tb);
+            ++refinement;
+            continue;
+        }
+        if (stage == WATER_AT_TOP) {
+            if (f <= 0.0) { height_grad = hg; return t; } // starts at or below the surface
+            fa = f;
+            stage = WATER_AT_FLOOR;
+            t = t_bottom;
+            continue;
+        }
+        if (stage == WATER_AT_FLOOR) {
+            fb = f; hg_b = hg;
+            stage = WATER_MARCHING;
+        } else if (stage == WATER_MARCHING) {
+            if (f <= 0.0) { tb = t; fb = f; hg_b = hg; march_step = steps; }
+            else { ta = t; fa = f; ++march_step; }
+        } else {
+            // Illinois: halve the value kept at an end that survives twice, so both ends move.
+            // The answer is the evaluated point nearest the surface, not the last estimate:
+            // where the surface runs almost along the ray (a grazing sun over noise), Illinois
+            // can stall beside a near-tangent point it already passed.
+            if (abs(f) < best_f) { best_t = t; best_f = abs(f); best_hg = hg; }
+            if (best_f <= WATER_REFINE_RESIDUAL * bound || refinement == WATER_REFINE_STEPS) break;
+            if (f > 0.0) { ta = t; fa = f; if (kept == -1) fb *= 0.5; kept = -1; }
+            else { tb = t; fb = f; if (kept == 1) fa *= 0.5; kept = 1; }
+            ++refinement;
+        }
+        if (stage == WATER_MARCHING) {
+            if (march_step < steps) { t = t_top + float(march_step) * dt; continue; }
+            // The slab's floor lies at or below the surface, so a value above zero there is
+            // rounding: a ray kilometres long against a slab micrometres thin (a grazing ray
+            // over nearly flat water) cannot resolve it. The floor is then the hit, held to
+            // the tolerance below.
+            if (fb > 0.0) {
+                if (!(fb <= 0.01 * bound + 1e-4)) return -1.0;
+                height_grad = hg_b;
+                return tb;
+            }
+            stage = WATER_REFINING;
+            best_t = tb; best_f = abs(fb); best_hg = hg_b;
+        }
+        t = ta + (tb - ta) * fa / (fa - fb);
     }
-    // The slab's floor lies at or below the surface, so a value above zero there is rounding:
-    // a ray kilometres long against a slab micrometres thin (a grazing ray over nearly flat
-    // water) cannot resolve it. The floor is then the hit, held to the tolerance below.
-    if (fb > 0.0) return fb <= 0.01 * bound + 1e-4 ? tb : -1.0;
-    // Illinois: halve the value kept at an end that survives twice, so both ends move. The
-    // answer is the evaluated point nearest the surface, not the last estimate: where the
-    // surface runs almost along the ray (a grazing sun over noise), Illinois can stall beside
-    // a near-tangent point it already passed, and the last estimate is the worse one.
-    float best_t = tb, best_f = abs(fb);
-    int kept = 0;
-    for (int i = 0; i < WATER_REFINE_STEPS; ++i) {
-        float t = ta + (tb - ta) * fa / (fa - fb);
-        float f = water_height_above_surface(w, noise, o, d, t, phase);
-        if (abs(f) < best_f) { best_t = t; best_f = abs(f); }
-        if (best_f <= WATER_REFINE_RESIDUAL * bound) return best_t;
-        if (f > 0.0) { ta = t; fa = f; if (kept == -1) fb *= 0.5; kept = -1; }
-        else { tb = t; fb = f; if (kept == 1) fa *= 0.5; kept = 1; }
-    }
-    float t = ta + (tb - ta) * fa / (fa - fb);
-    float f = water_height_above_surface(w, noise, o, d, t, phase);
-    if (abs(f) < best_f) { best_t = t; best_f = abs(f); }
-    return best_f <= 0.01 * bound + 1e-4 ? best_t : -1.0;
+    // Not within 1 % of the waves' height of the surface: a miss.
+    if (!(best_f <= 0.01 * bound + 1e-4)) return -1.0;
+    height_grad = best_hg;
+    return best_t;
 }
 
 // Fresnel transmittance for unpolarised light from a medium of index 1 into index n,
