@@ -268,25 +268,30 @@ pub fn water_intersect(w: &WaterParams, noise: &NoiseTexture, o: Vec3, d: Vec3, 
     if bound == 0.0 {
         return t_bottom;
     }
+    let ray = SlabRay { o, d, time, t_top, t_bottom, bound };
     if o.y > w.level + bound && water_slope_bound(w) * Vec2::new(d.x, d.z).length() <= -0.5 * d.y {
-        return water_intersect_newton(w, noise, o, d, time, t_top, t_bottom, bound);
+        return water_intersect_newton(w, noise, &ray);
     }
-    water_intersect_marched(w, noise, o, d, time, t_top, t_bottom, bound)
+    water_intersect_marched(w, noise, &ray)
 }
 
-/// `water_intersect`'s Newton steps on the height above the surface, kept inside the bracket
-/// the evaluations leave (a bisection where a step would leave it).
-#[allow(clippy::too_many_arguments)]
-fn water_intersect_newton(
-    w: &WaterParams,
-    noise: &NoiseTexture,
+/// A ray through the waves' slab, as `water_intersect`'s two searches take it: origin,
+/// direction, the water's time, where it enters and leaves the slab, and the slab's half
+/// height (the waves' and the noise's amplitudes).
+#[derive(Clone, Copy)]
+struct SlabRay {
     o: Vec3,
     d: Vec3,
     time: f32,
     t_top: f32,
     t_bottom: f32,
     bound: f32,
-) -> f32 {
+}
+
+/// `water_intersect`'s Newton steps on the height above the surface, kept inside the bracket
+/// the evaluations leave (a bisection where a step would leave it).
+fn water_intersect_newton(w: &WaterParams, noise: &NoiseTexture, ray: &SlabRay) -> f32 {
+    let SlabRay { o, d, time, t_top, t_bottom, bound } = *ray;
     let (mut ta, mut tb) = (t_top, t_bottom);
     // GLSL clamp: min(max(x, lo), hi).
     let mut t = ((w.level - o.y) / d.y).max(t_top).min(t_bottom);
@@ -317,17 +322,8 @@ fn water_intersect_newton(
 }
 
 /// `water_intersect`'s march and refinement.
-#[allow(clippy::too_many_arguments)]
-fn water_intersect_marched(
-    w: &WaterParams,
-    noise: &NoiseTexture,
-    o: Vec3,
-    d: Vec3,
-    time: f32,
-    t_top: f32,
-    t_bottom: f32,
-    bound: f32,
-) -> f32 {
+fn water_intersect_marched(w: &WaterParams, noise: &NoiseTexture, ray: &SlabRay) -> f32 {
+    let SlabRay { o, d, time, t_top, t_bottom, bound } = *ray;
     let f = |t: f32| water_height_above_surface(w, noise, o, d, t, time);
     let (mut ta, mut fa) = (t_top, f(t_top));
     if fa <= 0.0 {
@@ -997,7 +993,8 @@ mod tests {
                 let t_top = (w.level + bound - o.y) / d.y;
                 let t_bottom = (w.level - bound - o.y) / d.y;
                 let by_newton = water_intersect(&w, &noise, o, d, time);
-                let marched = water_intersect_marched(&w, &noise, o, d, time, t_top, t_bottom, bound);
+                let ray = SlabRay { o, d, time, t_top, t_bottom, bound };
+                let marched = water_intersect_marched(&w, &noise, &ray);
                 assert!(by_newton > 0.0 && marched > 0.0, "{model:?} ray {k}: {by_newton} / {marched}");
                 let allowed = 4.0 * WATER_REFINE_RESIDUAL * bound / -d.y;
                 assert!(
