@@ -249,33 +249,50 @@ mod abi_tests {
         }
     }
 
-    /// The block's members, name and std430 offset, in declaration order.
+    /// The block's members, name and std430 offset, in declaration order: the fields of the
+    /// `FrameValues` struct it opens with (the values every shader copies into `frame`), then
+    /// its own.
     fn glsl_members(source: &str) -> (Vec<(String, usize)>, usize) {
-        let body = source.split("readonly buffer FrameUniforms {").nth(1).expect("the FrameUniforms block");
-        let body = body.split("} frame;").next().expect("the block's end");
+        let values = source.split("struct FrameValues {").nth(1).expect("the FrameValues struct");
+        let values = values.split("};").next().expect("the struct's end");
+        let block = source.split("readonly buffer FrameUniforms {").nth(1).expect("the FrameUniforms block");
+        let block = block.split("} frame_buffer;").next().expect("the block's end");
         let (mut members, mut offset) = (Vec::new(), 0usize);
-        for line in body.lines() {
+        for line in block.lines() {
             let code = line.split("//").next().unwrap_or("").trim();
-            if code.is_empty() {
-                continue;
+            if code == "FrameValues values;" {
+                assert!(members.is_empty(), "the block must open with its FrameValues");
+                for line in values.lines() {
+                    push_member(line, &mut members, &mut offset);
+                }
+                // std430 rounds a struct's size up to its alignment: 16, a vec3's or a mat4's.
+                offset = offset.div_ceil(16) * 16;
+            } else {
+                push_member(line, &mut members, &mut offset);
             }
-            let decl = code.strip_suffix(';').unwrap_or_else(|| panic!("not a member declaration: {code:?}"));
-            let (ty, name) = decl.split_once(' ').unwrap_or_else(|| panic!("not a member declaration: {code:?}"));
-            let (size, align) = std430(ty.trim());
-            // An array of scalars (`float a[16]`): std430 strides it by its element's size.
-            let (name, count) = match name.trim().split_once('[') {
-                Some((name, n)) => (name, n.trim_end_matches(']').parse::<usize>().expect("an array's length")),
-                None => (name.trim(), 1),
-            };
-            assert!(
-                count == 1 || ty.trim() == "float",
-                "{code:?}: only arrays of float are std430-strided by their size"
-            );
-            offset = offset.div_ceil(align) * align;
-            members.push((name.to_string(), offset));
-            offset += size * count;
         }
         (members, offset.div_ceil(16) * 16)
+    }
+
+    /// Adds the member that `line` declares (none for a comment or a blank line) at its std430
+    /// offset after `offset`, and moves `offset` past it.
+    fn push_member(line: &str, members: &mut Vec<(String, usize)>, offset: &mut usize) {
+        let code = line.split("//").next().unwrap_or("").trim();
+        if code.is_empty() {
+            return;
+        }
+        let decl = code.strip_suffix(';').unwrap_or_else(|| panic!("not a member declaration: {code:?}"));
+        let (ty, name) = decl.split_once(' ').unwrap_or_else(|| panic!("not a member declaration: {code:?}"));
+        let (size, align) = std430(ty.trim());
+        // An array of scalars (`float a[16]`): std430 strides it by its element's size.
+        let (name, count) = match name.trim().split_once('[') {
+            Some((name, n)) => (name, n.trim_end_matches(']').parse::<usize>().expect("an array's length")),
+            None => (name.trim(), 1),
+        };
+        assert!(count == 1 || ty.trim() == "float", "{code:?}: only arrays of float are std430-strided by their size");
+        *offset = offset.div_ceil(align) * align;
+        members.push((name.to_string(), *offset));
+        *offset += size * count;
     }
 
     #[test]
@@ -291,16 +308,25 @@ mod abi_tests {
 
     #[test]
     fn the_layout_check_catches_a_misplaced_vec2() {
+        // The shape of frame.glsl: a struct of values, then the block that opens with it.
+        let block = |values: &str, own: &str| {
+            format!("struct FrameValues {{\n{values}\n}};\nreadonly buffer FrameUniforms {{\n FrameValues values;\n{own}\n}} frame_buffer;")
+        };
         // A vec2 after one float is aligned to 8 in std430: the Rust struct would put it at 4.
-        let (members, _) = glsl_members("readonly buffer FrameUniforms {\n float a;\n vec2 b;\n} frame;");
+        let (members, _) = glsl_members(&block(" float a;\n vec2 b;", ""));
         assert_eq!(members, vec![("a".to_string(), 0), ("b".to_string(), 8)]);
-        let (members, size) =
-            glsl_members("readonly buffer FrameUniforms {\n vec3 a;\n float b; // tail\n mat4 c;\n} frame;");
+        let (members, size) = glsl_members(&block(" vec3 a;\n float b; // tail\n mat4 c;", ""));
         assert_eq!(members, vec![("a".to_string(), 0), ("b".to_string(), 12), ("c".to_string(), 16)]);
         assert_eq!(size, 80);
-        let (members, size) =
-            glsl_members("readonly buffer FrameUniforms {\n float a;\n float b[3];\n vec2 c;\n} frame;");
+        let (members, size) = glsl_members(&block(" float a;\n float b[3];\n vec2 c;", ""));
         assert_eq!(members, vec![("a".to_string(), 0), ("b".to_string(), 4), ("c".to_string(), 16)]);
         assert_eq!(size, 32);
+        // The block's own members start after the struct padded to 16 bytes.
+        let (members, size) = glsl_members(&block(" vec3 a;\n float b;\n float c;", " float d[3];"));
+        assert_eq!(
+            members,
+            vec![("a".to_string(), 0), ("b".to_string(), 12), ("c".to_string(), 16), ("d".to_string(), 32)]
+        );
+        assert_eq!(size, 48);
     }
 }

@@ -38,15 +38,16 @@ struct Photon {
 // the grid's: the survey picks the order whose mesh cells are squarer on screen. The
 // caustics' warp follows the pixels that see where photons land, the godray beams' the view
 // rays' length through the water above where they enter (effects.caustic_photon_density,
-// godray_photon_density).
+// godray_photon_density). The knots are read from the frame's buffer itself, not from its
+// copy in `frame` (frame.glsl says why).
 #ifdef PHOTON_BEAMS
 #define DENSITY_WARP frame.godray_density_warp
-#define DENSITY_ROWS frame.godray_density_rows
-#define DENSITY_COLUMNS frame.godray_density_columns
+#define DENSITY_ROWS frame_buffer.godray_density_rows
+#define DENSITY_COLUMNS frame_buffer.godray_density_columns
 #else
 #define DENSITY_WARP frame.photon_density_warp
-#define DENSITY_ROWS frame.photon_density_rows
-#define DENSITY_COLUMNS frame.photon_density_columns
+#define DENSITY_ROWS frame_buffer.photon_density_rows
+#define DENSITY_COLUMNS frame_buffer.photon_density_columns
 #endif
 float density_knot_lerp_v(float g) {
     const int segments = PHOTON_DENSITY_KNOTS - 1;

@@ -1,7 +1,7 @@
 // The per-frame parameters every pass of the method reads (set 0, binding 0), each field by
-// its name. Rust side: frame::uniforms::FrameUniforms, field for field; a vec3 is followed by
-// a float and a vec2 starts at an even slot, so std430 inserts no padding, and
-// frame::uniforms::tests::glsl_block_matches_the_rust_struct fails on any difference.
+// its name. Rust side: shader_abi::FrameUniforms, field for field; a vec3 is followed by a
+// float and a vec2 starts at an even slot, so std430 inserts no padding, and
+// shader_abi::tests::glsl_block_matches_the_rust_struct fails on any difference.
 //
 // A read-only storage buffer, not a uniform buffer. Mesa's lavapipe (22.3) "inlines" uniform
 // values that decide a branch or a loop (the light kind, the water model, the iteration
@@ -10,11 +10,25 @@
 // (docs/reliability.md has the measurements and a minimal reproduction). Storage-buffer
 // loads are never inlined; on a GPU a read-only buffer read at a dynamically uniform address
 // is an ordinary cached load.
+//
+// Every shader reads the block's values once, into `frame`, a private copy that its
+// initializer fills at the top of main, before any branch or loop. llvmpipe (gallivm's
+// lp_bld_nir_soa.c) loads from a storage buffer lane by lane: a loop over the SIMD group's
+// eight lanes, with a bounds check per component. Only where it knows that the whole group
+// runs the load, at a uniform address outside every branch and loop of a shader that is not
+// a fragment shader, can it load once (in the versions that have that shortcut). The photon
+// shaders read the light's matrices and the water's parameters inside their loops, at every
+// step of every photon: copied once, the caustic pass costs a fifth less on lavapipe, with
+// every buffer the same to the bit (docs/performance.md, "The frame's values read once").
+// The warp's tables stay in the buffer (`frame_buffer`): each photon reads a few knots, and
+// a copy would load all 2 048 floats.
 #ifndef UNDERLIGHT_FRAME_GLSL
 #define UNDERLIGHT_FRAME_GLSL
 #include "shader_math.glsl"
 
-layout(set = 0, binding = BINDING_UNIFORMS, std430) readonly buffer FrameUniforms {
+// The block's fields but the warp's tables (std430 pads a struct to 16 bytes; these end at
+// 576, so the tables lie where they would without the struct).
+struct FrameValues {
     mat4 camera_view_proj;
     mat4 light_view_proj;
     mat4 light_inv_view_proj;
@@ -74,6 +88,9 @@ layout(set = 0, binding = BINDING_UNIFORMS, std430) readonly buffer FrameUniform
     float caustic_grid_aspect;     // k: the caustic triangles' coarse grid is N/k columns × N·k rows (frame::photon_density)
     vec3 steep_light_axis;         // the second light maps' bend under the water, steeper (0: no second maps)
     float steep_texel_stretch;     // refracted_texel_stretch for the second maps
+};
+layout(set = 0, binding = BINDING_UNIFORMS, std430) readonly buffer FrameUniforms {
+    FrameValues values;
     // The caustic photon grid's warp (frame::photon_density, photon_cast.glsl's
     // photon_density_warp): inverse cumulative densities, PHOTON_DENSITY_KNOTS knots each. Rows:
     // the window's v at grid v = k / (knots − 1). Columns: one row of knots per band of the
@@ -83,7 +100,9 @@ layout(set = 0, binding = BINDING_UNIFORMS, std430) readonly buffer FrameUniform
     // The godray grid's warp, alike.
     float godray_density_rows[32];
     float godray_density_columns[992];
-} frame;
+} frame_buffer;
+FrameValues frame = frame_buffer.values; // the copy every function reads (see the top)
+
 
 const int PHOTON_DENSITY_KNOTS = 32;
 
