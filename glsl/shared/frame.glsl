@@ -15,13 +15,13 @@
 // initializer fills at the top of main, before any branch or loop. llvmpipe (gallivm's
 // lp_bld_nir_soa.c) loads from a storage buffer lane by lane: a loop over the SIMD group's
 // eight lanes, with a bounds check per component. Only where it knows that the whole group
-// runs the load, at a uniform address outside every branch and loop of a shader that is not
-// a fragment shader, can it load once (in the versions that have that shortcut). The photon
+// runs the load, at a uniform address outside every branch and loop of a shader that is not a
+// fragment shader, can it load once (in the versions that have that shortcut). The photon
 // shaders read the light's matrices and the water's parameters inside their loops, at every
-// step of every photon: copied once, the caustic pass costs a fifth less on lavapipe, with
-// every buffer the same to the bit (docs/performance.md, "The frame's values read once").
-// The warp's tables stay in the buffer (`frame_buffer`): each photon reads a few knots, and
-// a copy would load all 2 048 floats.
+// step of every photon: copied once, the caustic pass costs about a sixth less on lavapipe,
+// with every buffer the same to the bit (docs/performance.md, "The frame's values read once").
+// The warp's tables stay in the buffer (`frame_buffer`): each photon reads a few knots, and a
+// copy would load all 2 048 floats.
 #ifndef UNDERLIGHT_FRAME_GLSL
 #define UNDERLIGHT_FRAME_GLSL
 #include "shader_math.glsl"
