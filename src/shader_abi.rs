@@ -143,6 +143,11 @@ const _: () = assert!(
         == 4 * 64 + 16 * 20 + 2 * 4 * PHOTON_DENSITY_KNOTS * (PHOTON_DENSITY_SEGMENTS + 1)
 );
 
+/// The bytes of `FrameUniforms` before its warp tables: frame.glsl's `FrameValues`, which the
+/// fragment shaders read as a uniform block bound to the start of the same buffer
+/// (`bindings::FRAME_VALUES`). The layout test below checks that the GLSL struct ends there.
+pub const FRAME_VALUES_BYTES: u64 = std::mem::offset_of!(FrameUniforms, photon_density_rows) as u64;
+
 /// Segments of the caustic photon grid's warp per axis (`frame::photon_density`); its knots
 /// are one more. GLSL: `PHOTON_DENSITY_KNOTS` and the arrays' sizes in frame.glsl (the layout
 /// test below checks them).
@@ -209,6 +214,9 @@ pub mod bindings {
     /// `steep` maps; the first maps again where the light does not bend).
     pub const LIGHT_POSITION_STEEP: u32 = 17;
     pub const LIGHT_NORMAL_STEEP: u32 = 18;
+    /// The frame's values (`UNIFORMS` up to its warp tables, the same buffer) as a uniform
+    /// block, which the fragment shaders read (glsl/shared/frame.glsl says why).
+    pub const FRAME_VALUES: u32 = 19;
     /// Every binding by its macro name, for the shader compiler.
     pub const ALL: &[(&str, u32)] = &[
         ("UNIFORMS", UNIFORMS),
@@ -230,6 +238,7 @@ pub mod bindings {
         ("REFLECTION_COLOR", REFLECTION_COLOR),
         ("LIGHT_POSITION_STEEP", LIGHT_POSITION_STEEP),
         ("LIGHT_NORMAL_STEEP", LIGHT_NORMAL_STEEP),
+        ("FRAME_VALUES", FRAME_VALUES),
     ];
 }
 
@@ -253,8 +262,6 @@ mod abi_tests {
     /// `FrameValues` struct it opens with (the values every shader copies into `frame`), then
     /// its own.
     fn glsl_members(source: &str) -> (Vec<(String, usize)>, usize) {
-        let values = source.split("struct FrameValues {").nth(1).expect("the FrameValues struct");
-        let values = values.split("};").next().expect("the struct's end");
         let block = source.split("readonly buffer FrameUniforms {").nth(1).expect("the FrameUniforms block");
         let block = block.split("} frame_buffer;").next().expect("the block's end");
         let (mut members, mut offset) = (Vec::new(), 0usize);
@@ -262,14 +269,22 @@ mod abi_tests {
             let code = line.split("//").next().unwrap_or("").trim();
             if code == "FrameValues values;" {
                 assert!(members.is_empty(), "the block must open with its FrameValues");
-                for line in values.lines() {
-                    push_member(line, &mut members, &mut offset);
-                }
                 // std430 rounds a struct's size up to its alignment: 16, a vec3's or a mat4's.
-                offset = offset.div_ceil(16) * 16;
+                (members, offset) = struct_members(source);
             } else {
                 push_member(line, &mut members, &mut offset);
             }
+        }
+        (members, offset.div_ceil(16) * 16)
+    }
+
+    /// The `FrameValues` struct's members and its std430 size (a multiple of 16).
+    fn struct_members(source: &str) -> (Vec<(String, usize)>, usize) {
+        let values = source.split("struct FrameValues {").nth(1).expect("the FrameValues struct");
+        let values = values.split("};").next().expect("the struct's end");
+        let (mut members, mut offset) = (Vec::new(), 0usize);
+        for line in values.lines() {
+            push_member(line, &mut members, &mut offset);
         }
         (members, offset.div_ceil(16) * 16)
     }
@@ -301,6 +316,11 @@ mod abi_tests {
         let rust: Vec<(String, usize)> = FRAME_UNIFORM_FIELDS.iter().map(|(n, o)| (n.to_string(), *o)).collect();
         assert_eq!(members, rust, "glsl/shared/frame.glsl's FrameUniforms and shader_abi::FrameUniforms differ");
         assert_eq!(size, std::mem::size_of::<FrameUniforms>());
+        // The fragment shaders' uniform block holds the struct alone (std140 lays these types
+        // out as std430 does, and pads the struct to 16 bytes alike).
+        let (values, values_size) = struct_members(include_str!("../glsl/shared/frame.glsl"));
+        assert_eq!(values.last().map(|(name, _)| name.as_str()), Some("steep_texel_stretch"));
+        assert_eq!(values_size as u64, FRAME_VALUES_BYTES);
         let glsl = include_str!("../glsl/shared/frame.glsl");
         let knots = format!("const int PHOTON_DENSITY_KNOTS = {PHOTON_DENSITY_KNOTS};");
         assert!(glsl.contains(&knots), "frame.glsl must say {knots}");

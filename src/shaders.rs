@@ -211,7 +211,10 @@ pub fn compile_all(glsl_dir: &Path) -> Result<Vec<CompiledShader>> {
     }
     let mut out = Vec::new();
     for (name, path, kind, defines) in programs {
-        let options = compile_options(glsl_dir, defines)?;
+        // Fragment shaders read the frame's values from a uniform block (glsl/shared/frame.glsl).
+        let stage: &[&str] = if kind == shaderc::ShaderKind::Fragment { &["FRAGMENT_STAGE"] } else { &[] };
+        let defines: Vec<&str> = defines.iter().chain(stage).copied().collect();
+        let options = compile_options(glsl_dir, &defines)?;
         let file = glsl_dir.join(&path);
         let source = std::fs::read_to_string(&file).with_context(|| format!("reading {}", file.display()))?;
         let artifact = compiler

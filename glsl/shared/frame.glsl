@@ -22,6 +22,12 @@
 // with every buffer the same to the bit (docs/performance.md, "The frame's values read once").
 // The warp's tables stay in the buffer (`frame_buffer`): each photon reads a few knots, and a
 // copy would load all 2 048 floats.
+//
+// Fragment shaders, where that shortcut never applies, read the same values as a uniform block
+// (FRAME_VALUES, bound to the start of the same buffer): llvmpipe loads a uniform block's
+// value at a uniform address once for the group in every stage. No fragment shader leaks the
+// variants above: 300-frame soaks of the tank and the storage hold their memory
+// (docs/reliability.md).
 #ifndef UNDERLIGHT_FRAME_GLSL
 #define UNDERLIGHT_FRAME_GLSL
 #include "shader_math.glsl"
@@ -101,7 +107,16 @@ layout(set = 0, binding = BINDING_UNIFORMS, std430) readonly buffer FrameUniform
     float godray_density_rows[32];
     float godray_density_columns[992];
 } frame_buffer;
+#ifdef FRAGMENT_STAGE // defined by the shader compiler for .frag stages (shaders::compile_all)
+// std140 lays out these members as std430 does, and pads the struct to 16 bytes alike
+// (shader_abi::tests::glsl_block_matches_the_rust_struct checks its end).
+layout(set = 0, binding = BINDING_FRAME_VALUES, std140) uniform FrameValuesBlock {
+    FrameValues values;
+} frame_values;
+FrameValues frame = frame_values.values;
+#else
 FrameValues frame = frame_buffer.values; // the copy every function reads (see the top)
+#endif
 
 
 const int PHOTON_DENSITY_KNOTS = 32;

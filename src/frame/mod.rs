@@ -417,8 +417,9 @@ impl Frame {
                 device,
                 &format!("frame {i} uniforms"),
                 std::mem::size_of::<FrameUniforms>() as u64,
-                // Read as a read-only storage buffer, not a uniform buffer: glsl/shared/frame.glsl.
-                vk::BufferUsageFlags::STORAGE_BUFFER,
+                // Read as a read-only storage buffer, and its values by the fragment shaders as a
+                // uniform block: glsl/shared/frame.glsl says why.
+                vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::UNIFORM_BUFFER,
                 MemoryLocation::CpuToGpu,
             )?);
         }
@@ -538,6 +539,9 @@ impl Frame {
             let through_surface = set >= FRAMES_IN_FLIGHT;
             match binding {
                 bindings::UNIFORMS => Resource::Storage { buffer: uniforms[frame].raw, range: uniforms[frame].size },
+                bindings::FRAME_VALUES => {
+                    Resource::Uniform { buffer: uniforms[frame].raw, range: crate::shader_abi::FRAME_VALUES_BYTES }
+                }
                 bindings::NOISE => tex(&noise, &nearest),
                 bindings::LIGHT_POSITION => {
                     tex(&shadow.as_ref().expect("plan: photon passes need the shadow pass").position, &nearest)
@@ -617,6 +621,7 @@ impl Frame {
                         set,
                         vec![
                             (bindings::UNIFORMS as usize, resource(bindings::UNIFORMS, set)),
+                            (bindings::FRAME_VALUES as usize, resource(bindings::FRAME_VALUES, set)),
                             (bindings::SCENE_DEPTH as usize, resource(bindings::SCENE_DEPTH, set)),
                             (bindings::FILTER_INPUT as usize, tex(input, &linear)),
                         ],

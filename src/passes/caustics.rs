@@ -24,6 +24,7 @@ use std::sync::Arc;
 /// scene's depth for the visibility test.
 pub const BINDINGS: &[(u32, Binding)] = &[
     (b::UNIFORMS, Binding::Storage),
+    (b::FRAME_VALUES, Binding::Uniform),
     (b::NOISE, Binding::Texture),
     (b::LIGHT_POSITION, Binding::Texture),
     (b::LIGHT_NORMAL, Binding::Texture),

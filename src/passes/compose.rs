@@ -27,7 +27,11 @@ pub struct ComposePass {
 impl ComposePass {
     /// What the chosen compose variant reads: only the targets the frame has.
     pub fn bindings(caustics: bool, godrays: bool) -> Vec<(u32, Binding)> {
-        let mut v = vec![(b::UNIFORMS, Binding::Storage), (b::SCENE_COLOR, Binding::Texture)];
+        let mut v = vec![
+            (b::UNIFORMS, Binding::Storage),
+            (b::FRAME_VALUES, Binding::Uniform),
+            (b::SCENE_COLOR, Binding::Texture),
+        ];
         if caustics || godrays {
             // Effect targets are upsampled along the scene's depth (glsl/shared/depth_aware.glsl).
             v.push((b::SCENE_DEPTH, Binding::Texture));

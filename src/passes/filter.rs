@@ -17,8 +17,12 @@ use crate::vk::render_pass::ColorTarget;
 use ash::vk;
 use std::sync::Arc;
 
-pub const BINDINGS: &[(u32, Binding)] =
-    &[(b::UNIFORMS, Binding::Storage), (b::SCENE_DEPTH, Binding::Texture), (b::FILTER_INPUT, Binding::Texture)];
+pub const BINDINGS: &[(u32, Binding)] = &[
+    (b::UNIFORMS, Binding::Storage),
+    (b::FRAME_VALUES, Binding::Uniform),
+    (b::SCENE_DEPTH, Binding::Texture),
+    (b::FILTER_INPUT, Binding::Texture),
+];
 
 /// Taps of the rotating kernel besides the centre.
 pub const TAPS: u32 = 8;

@@ -29,6 +29,7 @@ use std::sync::Arc;
 /// What the godray shaders read: the water's noise, the light's position map, scene depth.
 pub const BINDINGS: &[(u32, Binding)] = &[
     (b::UNIFORMS, Binding::Storage),
+    (b::FRAME_VALUES, Binding::Uniform),
     (b::NOISE, Binding::Texture),
     (b::LIGHT_POSITION, Binding::Texture),
     (b::LIGHT_NORMAL, Binding::Texture),

@@ -19,7 +19,7 @@ use ash::vk;
 use std::sync::Arc;
 
 /// What the pass's shaders read.
-pub const BINDINGS: &[(u32, Binding)] = &[(b::UNIFORMS, Binding::Storage)];
+pub const BINDINGS: &[(u32, Binding)] = &[(b::UNIFORMS, Binding::Storage), (b::FRAME_VALUES, Binding::Uniform)];
 
 /// The reflection's size for an output size.
 pub fn reflection_extent(output: vk::Extent2D) -> vk::Extent2D {

@@ -20,7 +20,7 @@ use ash::vk;
 use std::sync::Arc;
 
 /// What the pass's shaders read.
-pub const BINDINGS: &[(u32, Binding)] = &[(b::UNIFORMS, Binding::Storage)];
+pub const BINDINGS: &[(u32, Binding)] = &[(b::UNIFORMS, Binding::Storage), (b::FRAME_VALUES, Binding::Uniform)];
 
 pub struct RefractionPass {
     pipeline: Pipeline,

@@ -136,7 +136,8 @@ impl SurfaceInputs {
     /// What the pass's shaders read: the noise for the surface's shape, and what the surface
     /// refracts and reflects when seen from above.
     pub fn bindings(self) -> Vec<(u32, Binding)> {
-        let mut v = vec![(b::UNIFORMS, Binding::Storage), (b::NOISE, Binding::Texture)];
+        let mut v =
+            vec![(b::UNIFORMS, Binding::Storage), (b::FRAME_VALUES, Binding::Uniform), (b::NOISE, Binding::Texture)];
         if self.through_surface {
             for binding in [b::REFRACTION_COLOR, b::REFRACTION_ALBEDO, b::REFRACTION_DEPTH, b::REFLECTION_COLOR] {
                 v.push((binding, Binding::Texture));

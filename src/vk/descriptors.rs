@@ -15,6 +15,9 @@ pub enum Binding {
     /// A storage buffer. The frame's parameter block is one too, read-only (glsl/shared/frame.glsl
     /// says why it is not a uniform buffer).
     Storage,
+    /// A uniform buffer: only the frame's values, as the fragment shaders read them (the same
+    /// buffer's start; glsl/shared/frame.glsl says why).
+    Uniform,
 }
 
 impl Binding {
@@ -22,6 +25,7 @@ impl Binding {
         match self {
             Binding::Texture => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
             Binding::Storage => vk::DescriptorType::STORAGE_BUFFER,
+            Binding::Uniform => vk::DescriptorType::UNIFORM_BUFFER,
         }
     }
 }
@@ -31,6 +35,7 @@ impl Binding {
 pub enum Resource {
     Texture { view: vk::ImageView, sampler: vk::Sampler, layout: vk::ImageLayout },
     Storage { buffer: vk::Buffer, range: vk::DeviceSize },
+    Uniform { buffer: vk::Buffer, range: vk::DeviceSize },
 }
 
 pub struct DescriptorSets {
@@ -95,6 +100,10 @@ impl DescriptorSets {
             Resource::Storage { buffer, range } => {
                 buffer_info = [vk::DescriptorBufferInfo { buffer: *buffer, offset: 0, range: *range }];
                 w.descriptor_type(vk::DescriptorType::STORAGE_BUFFER).buffer_info(&buffer_info)
+            }
+            Resource::Uniform { buffer, range } => {
+                buffer_info = [vk::DescriptorBufferInfo { buffer: *buffer, offset: 0, range: *range }];
+                w.descriptor_type(vk::DescriptorType::UNIFORM_BUFFER).buffer_info(&buffer_info)
             }
         };
         unsafe { self.device.raw.update_descriptor_sets(&[w], &[]) };
