@@ -25,9 +25,9 @@
 //
 // Fragment shaders, where that shortcut never applies, read the same values as a uniform block
 // (FRAME_VALUES, bound to the start of the same buffer): llvmpipe loads a uniform block's
-// value at a uniform address once for the group in every stage. No fragment shader leaks the
-// variants above: 300-frame soaks of the tank and the storage hold their memory
-// (docs/reliability.md).
+// value at a uniform address once for the group in every stage. The leak above was measured in
+// the photon geometry shaders, which keep the storage buffer; with the fragment shaders on the
+// block, 300-frame soaks of the tank and the storage hold their memory (docs/reliability.md).
 #ifndef UNDERLIGHT_FRAME_GLSL
 #define UNDERLIGHT_FRAME_GLSL
 #include "shader_math.glsl"
