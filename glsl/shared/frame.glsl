@@ -118,7 +118,6 @@ FrameValues frame = frame_values.values;
 FrameValues frame = frame_buffer.values; // the copy every function reads (see the top)
 #endif
 
-
 const int PHOTON_DENSITY_KNOTS = 32;
 
 // The underwater direction the first maps (false) or the second, steeper ones (true) bend

@@ -38,6 +38,17 @@ pub enum Resource {
     Uniform { buffer: vk::Buffer, range: vk::DeviceSize },
 }
 
+impl Resource {
+    /// The kind of binding this resource fills.
+    fn binding(&self) -> Binding {
+        match self {
+            Resource::Texture { .. } => Binding::Texture,
+            Resource::Storage { .. } => Binding::Storage,
+            Resource::Uniform { .. } => Binding::Uniform,
+        }
+    }
+}
+
 pub struct DescriptorSets {
     pub layout: vk::DescriptorSetLayout,
     pool: vk::DescriptorPool,
@@ -91,19 +102,18 @@ impl DescriptorSets {
     fn write_one(&self, set: usize, binding: u32, resource: &Resource) {
         let buffer_info;
         let image_info;
-        let w = vk::WriteDescriptorSet::default().dst_set(self.sets[set]).dst_binding(binding);
+        let w = vk::WriteDescriptorSet::default()
+            .dst_set(self.sets[set])
+            .dst_binding(binding)
+            .descriptor_type(resource.binding().vk_type());
         let w = match resource {
             Resource::Texture { view, sampler, layout } => {
                 image_info = [vk::DescriptorImageInfo { sampler: *sampler, image_view: *view, image_layout: *layout }];
-                w.descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER).image_info(&image_info)
+                w.image_info(&image_info)
             }
-            Resource::Storage { buffer, range } => {
+            Resource::Storage { buffer, range } | Resource::Uniform { buffer, range } => {
                 buffer_info = [vk::DescriptorBufferInfo { buffer: *buffer, offset: 0, range: *range }];
-                w.descriptor_type(vk::DescriptorType::STORAGE_BUFFER).buffer_info(&buffer_info)
-            }
-            Resource::Uniform { buffer, range } => {
-                buffer_info = [vk::DescriptorBufferInfo { buffer: *buffer, offset: 0, range: *range }];
-                w.descriptor_type(vk::DescriptorType::UNIFORM_BUFFER).buffer_info(&buffer_info)
+                w.buffer_info(&buffer_info)
             }
         };
         unsafe { self.device.raw.update_descriptor_sets(&[w], &[]) };
