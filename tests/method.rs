@@ -651,6 +651,66 @@ fn a_grid_shaped_for_the_view_lights_flat_water_exactly() {
 }
 
 #[test]
+fn the_survey_gives_the_view_s_edges_as_many_photons_per_pixel_as_its_middle() {
+    // The warp's photons follow the pixels per receiver area, so under flat water and a zenith
+    // sun a camera looking straight down at the floor should get about as many photons per
+    // pixel at the view's edges as in its middle. The survey's histogram is blurred (the waves
+    // bend photons sideways); with rays only inside the view, the blur mixed the edge cells with
+    // the empty ones beyond, and the view's edges, where the nearest receivers of a slanted view
+    // lie, got fewer photons than their pixels need (`photon_density::SURVEY_MARGIN`).
+    let mut scene = pool_with(0.0, CausticEstimator::Triangles, 320);
+    scene.output = [320, 200];
+    scene.camera.position = glam::Vec3::new(0.0, -0.2, 0.0);
+    // Water as wide as the tank's: the survey's histogram cells are then as fine against the
+    // view as there.
+    scene.water.extent_min = glam::Vec2::splat(-2.0);
+    scene.water.extent_max = glam::Vec2::splat(2.0);
+    scene.effects.caustic_photon_density = underlight::scene::PhotonSpread::View;
+    let (uniforms, warp) = surveyed_caustic_warp(&scene);
+    let light_inverse = glam::Mat4::from_cols_array_2d(&uniforms.light_inv_view_proj);
+    let camera = glam::Mat4::from_cols_array_2d(&uniforms.camera_view_proj);
+    let (window_min, window_size) =
+        (glam::Vec2::from(uniforms.photon_window_min), glam::Vec2::from(uniforms.photon_window_size));
+    // Photons of a fine grid, each through the warp to where it enters the flat water, straight
+    // down to the floor, and onto the screen: their count per block of 20×20 pixels.
+    const BLOCK: u32 = 20;
+    let [w, h] = scene.output;
+    let (columns, rows) = ((w / BLOCK) as usize, (h / BLOCK) as usize);
+    let mut counts = vec![0u32; columns * rows];
+    let n = 1000;
+    for j in 0..n {
+        for i in 0..n {
+            let g = glam::Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
+            let (uv, _) = warp.warp(g, glam::Vec2::splat(0.5 / n as f32));
+            let ndc = (window_min + uv * window_size) * 2.0 - 1.0;
+            let near = light_inverse.project_point3(glam::Vec3::new(ndc.x, ndc.y, 0.0));
+            let far = light_inverse.project_point3(glam::Vec3::new(ndc.x, ndc.y, 1.0));
+            let t = (scene.water.level - near.y) / (far.y - near.y);
+            let entry = near + t * (far - near);
+            let clip = camera * glam::Vec4::new(entry.x, -FLOOR_DEPTH, entry.z, 1.0);
+            let screen = (glam::Vec2::new(clip.x, clip.y) / clip.w * 0.5 + 0.5) * glam::Vec2::new(w as f32, h as f32);
+            if clip.w > 0.0 && screen.x >= 0.0 && screen.y >= 0.0 && screen.x < w as f32 && screen.y < h as f32 {
+                counts[(screen.y as u32 / BLOCK) as usize * columns + (screen.x as u32 / BLOCK) as usize] += 1;
+            }
+        }
+    }
+    let block = |x: usize, y: usize| counts[y * columns + x] as f64;
+    let mean = counts.iter().map(|&c| c as f64).sum::<f64>() / counts.len() as f64;
+    for y in 0..rows {
+        eprintln!("{}", (0..columns).map(|x| format!("{:5.2}", block(x, y) / mean)).collect::<Vec<_>>().join(" "));
+    }
+    // The corners, where two edges' dilution met: 0.55 of the mean with the survey's rays
+    // inside the view alone (80 × 50), 0.88 with the margin (the warp is computed on the CPU).
+    let corner = [(0, 0), (columns - 1, 0), (0, rows - 1), (columns - 1, rows - 1)]
+        .map(|(x, y)| block(x, y))
+        .into_iter()
+        .fold(f64::INFINITY, f64::min);
+    eprintln!("photons per block: mean {mean:.0}, sparsest corner {corner}");
+    assert!(mean > 1000.0, "the fine grid puts too few photons in view to compare: {mean:.0} per block");
+    assert!(corner >= 0.8 * mean, "the view's corner gets {:.2} of the mean photons per pixel", corner / mean);
+}
+
+#[test]
 fn the_survey_spends_no_photons_on_receivers_the_camera_sees_in_shadow() {
     // A roof over half the pool shades the floor under it, and the camera under the water
     // sees both halves. A pixel on the shaded half sees no caustic: photons cast towards it
