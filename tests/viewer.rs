@@ -133,10 +133,12 @@ fn viewer_sessions_under_xvfb() {
     let mean = diffs.iter().map(|d| *d as f64).sum::<f64>() / diffs.len() as f64;
     let far = diffs.iter().filter(|d| **d > 8).count() as f64 / diffs.len() as f64;
     eprintln!("viewer vs headless: mean |Δ| {mean:.4} / 255, {:.3} % of channels off by > 8", 100.0 * far);
-    // Both run the same frame on the same driver; only the camera's round trip through
-    // yaw/pitch may move a few edges by a pixel. A wrong format swizzle, a missing pass or a
-    // time mismatch moves the mean by tens.
-    assert!(mean < 1.0 && far < 0.01, "viewer and headless images differ: mean {mean}, far {far}");
+    // Both run the same frame on the same driver, and the unmoved fly camera applies the
+    // scene's own camera (`viewer::camera::FlyCamera`): the same image (mean 0.0 on lavapipe).
+    // With the camera's round trip through yaw and pitch, the photon survey re-sampled the
+    // caustic: mean 1.07, 4.1 % of the channels off by more than 8. A wrong format swizzle, a
+    // missing pass or a time mismatch moves the mean by tens.
+    assert!(mean < 0.05 && far == 0.0, "viewer and headless images differ: mean {mean}, far {far}");
 
     // 3. A line width beyond any device's range is drawn clamped, and the viewer says so.
     let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
