@@ -943,7 +943,7 @@ mod tests {
         // outside the window). Spread over the window, all 88 × 55 rays put two across the
         // strip instead of three, and the misfits' ratio read 0.876, above WARP_ORDER_SWITCH:
         // a strip one band wide is near what the survey's neighbour differences resolve.
-        let in_view = [80usize, 50];
+        let in_view = RAYS.map(|n| (n as f32 / (1.0 + SURVEY_MARGIN)).round() as usize);
         let mut uv = [None; RAYS[0] * RAYS[1]];
         for y in 0..RAYS[1] {
             for x in 0..RAYS[0] {
