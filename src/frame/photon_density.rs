@@ -24,8 +24,8 @@
 //! towards it light something else or nothing) in a `SEGMENTS`² histogram over the photon
 //! window, each weighed by the light its receiver can expect (`receiver_weight`); for the
 //! beams, it adds the length of each step along the ray's underwater part above the step.
-//! Each weight is shared among the four cells nearest to where it falls (`deposit`), so that
-//! the warp moves no more than the camera does.
+//! Near a cell's border a weight is shared with the cell across it (`deposit`), so that the
+//! warp moves no more than the camera does.
 //! Blurred (`BLUR`: the waves bend photons sideways) and floored at `FLOOR` of the mean (so that
 //! receivers no ray met still get photons), each histogram is a piecewise-constant density.
 //! The warp is its inverse cumulative distribution: the window's v from the rows' marginal,
@@ -397,7 +397,7 @@ fn receiver_weight(scene: &Scene, p: DVec3, normal: DVec3) -> f64 {
 /// tank's back wall, which the sun lights from behind) is in its own shadow, and the occlusion
 /// test alone decided that by rounding: its ray left along or into the receiver's own plane. A
 /// camera moved by a micrometre flipped 203 of the tank's 3 250 counted rays, all on that wall,
-/// and moved the warp's knots by 1.4 % of the photon window in the median step (3e-5 since,
+/// and moved the warp's knots by 1.4 % of the photon window in the median step (2e-5 since,
 /// with `deposit`; docs/accuracy.md, "The survey and a camera that moves a hair"). Light that
 /// grazes the side (cosine below `GRAZING`) counts as away from it.
 fn lit_through_flat_water(scene: &Scene, bvh: &Bvh, p: DVec3, seen_side: DVec3, bounds: (DVec3, DVec3)) -> bool {
