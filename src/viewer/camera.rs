@@ -11,9 +11,10 @@ pub struct FlyCamera {
     /// Radians, clamped short of straight up/down.
     pub pitch: f32,
     /// The scene's own position and look-at, applied as they are until the camera first moves
-    /// or turns: yaw and pitch give the same view direction only to within rounding, and the
-    /// photon survey is sensitive to it. A ray that crosses a histogram cell's border moves the
-    /// warp's knots, and with them every photon. The viewer then drew a caustic pattern
+    /// or turns: yaw and pitch give the same view direction only to within rounding, and a
+    /// photon survey ray that the rounding moves across a silhouette or a shadow's edge moves
+    /// the warp's knots, and with them every photon. Before the survey's side test and its
+    /// shared deposit (`frame::photon_density`) any rounding could: the viewer drew a caustic
     /// sampled anew, 4 % of its channels off by more than 8 from `render`'s frame
     /// (`tests/viewer.rs`).
     unmoved: Option<(Vec3, Vec3)>,
