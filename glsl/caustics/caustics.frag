@@ -1,14 +1,14 @@
 #version 450
-// Adds a photon's irradiance where its receiver is visible.
-#include "../photons/photon_visibility.glsl"
+// Adds a photon's irradiance where its receiver is visible. Only fragments in front of the
+// scene reach it: the pass's depth test, against the depth that photon_visibility.frag wrote,
+// is the visibility test, made before the shader runs.
 
 // The point's vertex carries only what varies per photon (4 components besides its position
-// and size): its view depth is 1 / gl_FragCoord.w, and every photon counts 1 in alpha.
+// and size): its depth is the point's, and every photon counts 1 in alpha.
 layout(location = 0) flat in vec3 g_irradiance;
 layout(location = 0) out vec4 out_irradiance;
+layout(early_fragment_tests) in;
 
 void main() {
-    float view_depth = 1.0 / gl_FragCoord.w;
-    if (behind_scene(gl_FragCoord.xy, frame.caustic_target_size, view_depth, CAUSTIC_DEPTH_TOLERANCE)) discard;
     out_irradiance = vec4(g_irradiance, 1.0);
 }

@@ -7,11 +7,17 @@
 #define UNDERLIGHT_PHOTON_VISIBILITY_GLSL
 #include "depth_aware.glsl"
 
+// The farthest view depth (m along the camera axis) at which a fragment still counts as in
+// front of a scene surface `scene_z` m away.
+float farthest_visible(float scene_z, float tolerance) {
+    return scene_z * (1.0 + tolerance) + tolerance;
+}
+
 // Whether view depth `view_depth` (m along the camera axis) at pixel centre `pixel` of a
-// target `size` pixels large lies behind what the scene shows there.
+// target `size` pixels large lies behind what the scene shows there. (The rasterised godray
+// beams and caustic points make the same test with the depth test: photon_visibility.frag.)
 bool behind_scene(vec2 pixel, vec2 size, float view_depth, float tolerance) {
-    float scene_z = scene_view_depth(pixel / size);
-    return view_depth > scene_z * (1.0 + tolerance) + tolerance;
+    return view_depth > farthest_visible(scene_view_depth(pixel / size), tolerance);
 }
 
 // Whether a fragment of a triangle that lies on its receiver lies off the surface its pixel

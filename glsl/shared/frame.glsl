@@ -179,6 +179,13 @@ float linear_view_depth(float depth) {
     return n * f / (f - depth * (f - n));
 }
 
+// The depth-buffer value of a point `view_depth` m along the camera axis: linear_view_depth's
+// inverse, clamped to the depth range (a point beyond the far plane tests as at it).
+float depth_of_view_depth(float view_depth) {
+    float n = frame.z_near, f = frame.z_far;
+    return clamp(f * (view_depth - n) / (max(view_depth, 1e-9) * (f - n)), 0.0, 1.0);
+}
+
 // World area one pixel of a target `height_px` tall covers at distance d along its ray, on
 // a surface whose normal makes cosine `cos_view` with the ray; `cos_axis` is the cosine
 // between the ray and the camera axis (a pinhole's pixel solid angle shrinks by cos³).

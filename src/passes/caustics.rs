@@ -7,6 +7,7 @@
 use crate::error::{Error, Result};
 use crate::passes::photon_accumulation::{dispatch_per_photon, require_float_atomics, AtomicAccumulation};
 use crate::passes::photon_records::PhotonRecords;
+use crate::passes::photon_visibility::{VisibilityDepth, VisibilityTarget};
 use crate::passes::{require_accumulation_format, PhotonPath, ACCUMULATION_FORMAT, PHOTON_SETS};
 use crate::scene::CausticEstimator;
 use crate::shader_abi::bindings as b;
@@ -52,6 +53,9 @@ pub struct CausticsPass {
     /// besides the grid's own (`mesh_invocations`); not when recording photons, which go
     /// through the points' recording variant.
     draws_triangles: bool,
+    /// Where points are drawn: the draw that writes their visibility test's depth before them
+    /// (`passes::photon_visibility`).
+    visibility: Option<VisibilityDepth>,
     pub grid: u32,
     pub subdivision: u32,
     /// With photon recording on: two vec4 per photon, (hit, 1 if landed else −drop reason)
@@ -121,13 +125,16 @@ impl CausticsPass {
         let photon_records =
             record_photons.then(|| PhotonRecords::new(device, "caustic photon records", photons, path)).transpose()?;
         require_accumulation_format(device, "R32G32B32A32_SFLOAT with blending and linear filtering (caustic target)")?;
-        let target = ColorTarget::new(
-            device,
-            "caustics",
-            extent,
-            ACCUMULATION_FORMAT,
-            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-        )?;
+        // The points (caustics.frag) test their visibility with the depth test; the compute
+        // path and the triangles test in their shaders.
+        let draws_triangles = triangles && !record_photons;
+        let draws_points = path != PhotonPath::Compute && !(path == PhotonPath::GeometryShader && draws_triangles);
+        let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+        let target = if draws_points {
+            ColorTarget::with_depth(device, "caustics", extent, ACCUMULATION_FORMAT, read)?
+        } else {
+            ColorTarget::new(device, "caustics", extent, ACCUMULATION_FORMAT, read)?
+        };
         let specialization = [(0, subdivision)];
         let set_layouts = [sets.layout];
         let compute = |name: &str, shader: &str| {
@@ -151,6 +158,7 @@ impl CausticsPass {
             geometry,
             topology: vk::PrimitiveTopology::POINT_LIST,
             blend: Blend::Additive,
+            depth_test: draws_points,
             specialization: &specialization,
             push_constant_bytes: 4,
             set_layouts: &set_layouts,
@@ -211,10 +219,14 @@ impl CausticsPass {
                 sets.write_at(frame, vec![(binding.0 as usize, resource)]);
             }
         }
+        let visibility = draws_points
+            .then(|| VisibilityDepth::new(device, VisibilityTarget::Caustics, &target, &set_layouts))
+            .transpose()?;
         Ok(Self {
             path,
             estimator,
-            draws_triangles: triangles && !record_photons,
+            draws_triangles,
+            visibility,
             grid,
             subdivision,
             photon_records,
@@ -261,6 +273,9 @@ impl CausticsPass {
             }
         }
         self.target.render_pass.begin(cmd);
+        if let Some(visibility) = &self.visibility {
+            visibility.record(dev, cmd, set);
+        }
         self.pipeline.bind(cmd, set);
         self.pipeline.push(cmd, &grid);
         let vertices = match self.path {

@@ -15,6 +15,7 @@
 use crate::error::{Error, Result};
 use crate::passes::photon_accumulation::{dispatch_per_photon, require_float_atomics, AtomicAccumulation};
 use crate::passes::photon_records::PhotonRecords;
+use crate::passes::photon_visibility::{VisibilityDepth, VisibilityTarget};
 use crate::passes::{require_accumulation_format, PhotonPath, ACCUMULATION_FORMAT, PHOTON_SETS};
 use crate::scene::{Effects, GodrayMethod};
 use crate::shader_abi::bindings as b;
@@ -52,6 +53,9 @@ pub struct GodraysPass {
     /// Line width actually drawn, px (the scene's, clamped to the device's range).
     pub line_width: f32,
     pipeline: Pipeline,
+    /// Where the beams are rasterised: the draw that writes their visibility test's depth
+    /// before them (`passes::photon_visibility`).
+    visibility: Option<VisibilityDepth>,
     accumulation: Option<AtomicAccumulation>,
     /// With `FrameOptions::record_photons` and the beams' geometry shader: two records per
     /// beam (`glsl/godrays/godrays.geom`, PHOTON_DEBUG), read back by the flux budget.
@@ -119,13 +123,15 @@ impl GodraysPass {
                 sets.write_at(frame, vec![(b::PHOTON_DEBUG as usize, records.resource())]);
             }
         }
-        let target = ColorTarget::new(
-            device,
-            "godrays",
-            extent,
-            ACCUMULATION_FORMAT,
-            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-        )?;
+        // Rasterised beams test their visibility with the depth test, against a depth the pass
+        // writes first; the compute path tests in its shader, the march has nothing to test.
+        let rasterised_beams = method.casts_beams() && path != PhotonPath::Compute;
+        let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+        let target = if rasterised_beams {
+            ColorTarget::with_depth(device, "godrays", extent, ACCUMULATION_FORMAT, read)?
+        } else {
+            ColorTarget::new(device, "godrays", extent, ACCUMULATION_FORMAT, read)?
+        };
         let specialization = [(0, subdivision)];
         let set_layouts = [sets.layout];
         // The photon beams' draws, lines or ribbons, adding into the target.
@@ -133,6 +139,7 @@ impl GodraysPass {
             geometry,
             topology,
             blend: Blend::Additive,
+            depth_test: true,
             specialization: &specialization,
             push_constant_bytes: 4,
             set_layouts: &set_layouts,
@@ -192,6 +199,9 @@ impl GodraysPass {
                 (shaders::graphics_pipeline(device, &desc)?, None)
             }
         };
+        let visibility = rasterised_beams
+            .then(|| VisibilityDepth::new(device, VisibilityTarget::Godrays, &target, &set_layouts))
+            .transpose()?;
         Ok(Self {
             method,
             path,
@@ -199,6 +209,7 @@ impl GodraysPass {
             subdivision,
             line_width,
             pipeline,
+            visibility,
             accumulation,
             photon_records,
             target,
@@ -235,6 +246,9 @@ impl GodraysPass {
             return;
         }
         self.target.render_pass.begin(cmd);
+        if let Some(visibility) = &self.visibility {
+            visibility.record(dev, cmd, set);
+        }
         self.pipeline.bind(cmd, set);
         self.pipeline.push(cmd, &self.grid.to_ne_bytes());
         let vertices = match self.path {

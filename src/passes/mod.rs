@@ -8,6 +8,7 @@ pub mod godrays;
 pub mod mesh;
 pub mod photon_accumulation;
 pub mod photon_records;
+pub mod photon_visibility;
 pub mod present;
 pub mod reflection;
 pub mod refraction;

@@ -17,6 +17,8 @@ pub enum Blend {
     Opaque,
     /// dst += src, for photon splats: every photon adds its energy.
     Additive,
+    /// Writes no colour: a draw that only writes depth into a pass with colour attachments.
+    NoColor,
 }
 
 /// Everything a pass decides about its graphics pipeline.
@@ -249,6 +251,9 @@ impl Pipeline {
                 .dst_alpha_blend_factor(vk::BlendFactor::ONE)
                 .alpha_blend_op(vk::BlendOp::ADD)
                 .color_write_mask(vk::ColorComponentFlags::RGBA),
+            Blend::NoColor => {
+                vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::empty())
+            }
         };
         let attachments = vec![attachment; desc.color_attachments as usize];
         let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&attachments);

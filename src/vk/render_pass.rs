@@ -171,9 +171,12 @@ impl Drop for RenderPass {
 /// One colour image a pass draws into, cleared to zero every frame and left in
 /// `final_layout` for its reader: the shape of the photon, filter and compose passes.
 pub struct ColorTarget {
-    // The render pass first: its framebuffer refers to the image's view.
+    // The render pass first: its framebuffer refers to the images' views.
     pub render_pass: RenderPass,
     pub image: Image,
+    /// A depth attachment of the same extent, for a pass that tests its draws against a
+    /// depth of its own (`with_depth`); the pass itself fills it, nothing else reads it.
+    pub depth: Option<Image>,
 }
 
 impl ColorTarget {
@@ -184,6 +187,28 @@ impl ColorTarget {
         format: vk::Format,
         final_layout: vk::ImageLayout,
     ) -> Result<Self> {
+        Self::build(device, name, extent, format, final_layout, false)
+    }
+
+    /// `new` with a D32_SFLOAT depth attachment, cleared to 1 when the pass begins.
+    pub fn with_depth(
+        device: &Arc<Device>,
+        name: &str,
+        extent: vk::Extent2D,
+        format: vk::Format,
+        final_layout: vk::ImageLayout,
+    ) -> Result<Self> {
+        Self::build(device, name, extent, format, final_layout, true)
+    }
+
+    fn build(
+        device: &Arc<Device>,
+        name: &str,
+        extent: vk::Extent2D,
+        format: vk::Format,
+        final_layout: vk::ImageLayout,
+        with_depth: bool,
+    ) -> Result<Self> {
         // TRANSFER_SRC for read-backs; TRANSFER_DST for a clear before its first pass
         // (upload::clear_to_sampled).
         let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
@@ -191,12 +216,23 @@ impl ColorTarget {
             | vk::ImageUsageFlags::TRANSFER_SRC
             | vk::ImageUsageFlags::TRANSFER_DST;
         let image = Image::new(device, name, extent, format, usage)?;
+        let depth = with_depth
+            .then(|| {
+                let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
+                Image::new(device, &format!("{name} depth"), extent, vk::Format::D32_SFLOAT, usage)
+            })
+            .transpose()?;
+        let depth_attachment = depth.as_ref().map(|image| Attachment {
+            image,
+            load: Load::Clear([1.0; 4]),
+            final_layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+        });
         let render_pass = RenderPass::new(
             device,
             name,
             &[Attachment { image: &image, load: Load::Clear([0.0; 4]), final_layout }],
-            None,
+            depth_attachment.as_ref(),
         )?;
-        Ok(Self { render_pass, image })
+        Ok(Self { render_pass, image, depth })
     }
 }
