@@ -51,9 +51,9 @@ vec3 receiver_normal(vec3 hit, bool steep) {
 // A square splat of `size` whole pixels centred on receiver point `hit`, spreading the
 // transmitted flux `flux` (W per channel, attenuation applied) over the receiver area its
 // pixels cover; false when it cannot touch the target. Shared by the paper's points and by
-// the triangle estimator's fallbacks (caustics_triangles.geom). `steep`: the photon was found
-// in the second light maps, which hold its receiver's normal.
-bool caustic_square(vec3 hit, bool steep, vec3 flux, float size, out CausticSplat s) {
+// the triangle estimator's fallbacks (caustics_triangles.geom). `n`: the receiver's normal
+// as receiver_normal gives it (zero outside the light's map).
+bool caustic_square_on(vec3 hit, vec3 n, vec3 flux, float size, out CausticSplat s) {
     s.clip = frame.camera_view_proj * vec4(hit, 1.0);
     s.size = size;
     s.irradiance = vec4(0.0);
@@ -65,7 +65,6 @@ bool caustic_square(vec3 hit, bool steep, vec3 flux, float size, out CausticSpla
     if (any(greaterThan(abs(s.clip.xy), reach)) || s.clip.z < 0.0 || s.clip.z > s.clip.w) return false;
     vec3 to_hit = hit - frame.camera_position;
     float d_view = length(to_hit);
-    vec3 n = receiver_normal(hit, steep);
     if (n == vec3(0.0)) n = vec3(0.0, 1.0, 0.0); // outside the map: a floor's
     float cos_view = abs(dot(n, to_hit / d_view));
     float cos_axis = s.clip.w / d_view;
@@ -78,6 +77,12 @@ bool caustic_square(vec3 hit, bool steep, vec3 flux, float size, out CausticSpla
     return true;
 }
 
+// caustic_square at a point whose normal is still to be read. `steep`: the photon was found
+// in the second light maps, which hold its receiver's normal.
+bool caustic_square(vec3 hit, bool steep, vec3 flux, float size, out CausticSplat s) {
+    return caustic_square_on(hit, receiver_normal(hit, steep), flux, size, s);
+}
+
 // The point a landed photon draws (the paper's estimator); false when it cannot touch the
 // target.
 bool caustic_splat(Photon ph, out CausticSplat s) {
@@ -88,11 +93,15 @@ bool caustic_splat(Photon ph, out CausticSplat s) {
     // wherever it lands, so each photon deposits exactly its flux (a fractional size covers
     // floor² or ceil² pixels depending on its sub-pixel position).
     size = clamp(round(size), 1.0, floor(frame.device_max_point_size));
+    // The receiver's normal, read once for the side test and the splat's area
+    // (receiver_normal's value).
     ivec2 texel;
+    vec3 n = vec3(0.0);
     if (light_texel(ph.hit, ph.steep_map, texel)) {
-        vec3 n = map_normal(texel, ph.steep_map);
-        if (dot(n, n) > 0.25 && !lit_side_faces_camera(ph.hit, n, ph.direction)) { s.irradiance = vec4(0.0); return false; }
+        vec3 stored = map_normal(texel, ph.steep_map);
+        if (dot(stored, stored) > 0.25 && !lit_side_faces_camera(ph.hit, stored, ph.direction)) { s.irradiance = vec4(0.0); return false; }
+        n = normalize(stored + 1e-6);
     }
-    return caustic_square(ph.hit, ph.steep_map, ph.flux * water_transmittance(ph.travelled), size, s);
+    return caustic_square_on(ph.hit, n, ph.flux * water_transmittance(ph.travelled), size, s);
 }
 #endif

@@ -601,7 +601,7 @@ void main() {
         else if (frame.light_is_point == 0.0) size = min(size, sqrt(cell_pixels(k, photons_per_axis)));
         CausticSplat s;
         size = clamp(round(size), 1.0, floor(frame.device_max_point_size));
-        if (caustic_square(hit[k], steep[k], returned[k], size, s)) {
+        if (caustic_square_on(hit[k], normal[k], returned[k], size, s)) { // a drawn cell's photon landed
             // The receiver area per pixel from the drawn triangles around the photon, where
             // it has any (see emit_triangle).
             if (around_pixels[k] > 1e-4 && around_pixel_area[k] > 1e-12)
