@@ -130,11 +130,8 @@ impl CausticsPass {
         let draws_triangles = triangles && !record_photons;
         let draws_points = path != PhotonPath::Compute && !(path == PhotonPath::GeometryShader && draws_triangles);
         let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
-        let target = if draws_points {
-            ColorTarget::with_depth(device, "caustics", extent, ACCUMULATION_FORMAT, read)?
-        } else {
-            ColorTarget::new(device, "caustics", extent, ACCUMULATION_FORMAT, read)?
-        };
+        let target =
+            ColorTarget::with_optional_depth(device, "caustics", extent, ACCUMULATION_FORMAT, read, draws_points)?;
         let specialization = [(0, subdivision)];
         let set_layouts = [sets.layout];
         let compute = |name: &str, shader: &str| {

@@ -127,11 +127,8 @@ impl GodraysPass {
         // writes first; the compute path tests in its shader, the march has nothing to test.
         let rasterised_beams = method.casts_beams() && path != PhotonPath::Compute;
         let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
-        let target = if rasterised_beams {
-            ColorTarget::with_depth(device, "godrays", extent, ACCUMULATION_FORMAT, read)?
-        } else {
-            ColorTarget::new(device, "godrays", extent, ACCUMULATION_FORMAT, read)?
-        };
+        let target =
+            ColorTarget::with_optional_depth(device, "godrays", extent, ACCUMULATION_FORMAT, read, rasterised_beams)?;
         let specialization = [(0, subdivision)];
         let set_layouts = [sets.layout];
         // The photon beams' draws, lines or ribbons, adding into the target.

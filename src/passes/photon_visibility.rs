@@ -25,7 +25,7 @@ pub enum VisibilityTarget {
     Godrays = 1,
 }
 
-/// The draw that fills a photon target's depth attachment (`ColorTarget::with_depth`).
+/// The draw that fills a photon target's depth attachment (`ColorTarget::with_optional_depth`).
 pub struct VisibilityDepth {
     pipeline: Pipeline,
 }

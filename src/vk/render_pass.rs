@@ -175,7 +175,7 @@ pub struct ColorTarget {
     pub render_pass: RenderPass,
     pub image: Image,
     /// A depth attachment of the same extent, for a pass that tests its draws against a
-    /// depth of its own (`with_depth`); the pass itself fills it, nothing else reads it.
+    /// depth of its own (`with_optional_depth`); the pass itself fills it, nothing else reads it.
     pub depth: Option<Image>,
 }
 
@@ -187,21 +187,12 @@ impl ColorTarget {
         format: vk::Format,
         final_layout: vk::ImageLayout,
     ) -> Result<Self> {
-        Self::build(device, name, extent, format, final_layout, false)
+        Self::with_optional_depth(device, name, extent, format, final_layout, false)
     }
 
-    /// `new` with a D32_SFLOAT depth attachment, cleared to 1 when the pass begins.
-    pub fn with_depth(
-        device: &Arc<Device>,
-        name: &str,
-        extent: vk::Extent2D,
-        format: vk::Format,
-        final_layout: vk::ImageLayout,
-    ) -> Result<Self> {
-        Self::build(device, name, extent, format, final_layout, true)
-    }
-
-    fn build(
+    /// `new`, with a D32_SFLOAT depth attachment of the same extent where `with_depth`,
+    /// cleared to 1 when the pass begins.
+    pub fn with_optional_depth(
         device: &Arc<Device>,
         name: &str,
         extent: vk::Extent2D,
