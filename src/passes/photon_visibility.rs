@@ -17,7 +17,7 @@ use crate::vk::render_pass::ColorTarget;
 use ash::vk;
 use std::sync::Arc;
 
-/// Which target a visibility depth is for: its size and tolerance in the shader
+/// Which target a visibility depth is for, which sets its tolerance in the shader
 /// (specialization constant 0 of photon_visibility.frag).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum VisibilityTarget {
