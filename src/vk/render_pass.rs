@@ -21,7 +21,8 @@ pub enum Load {
 pub struct Attachment<'a> {
     pub image: &'a Image,
     pub load: Load,
-    /// Layout the pass leaves the image in, chosen for its next use.
+    /// Layout the pass leaves the image in, chosen for its next use. A depth left in
+    /// DEPTH_STENCIL_ATTACHMENT_OPTIMAL has no next use: its contents are not stored.
     pub final_layout: vk::ImageLayout,
 }
 
@@ -48,12 +49,17 @@ impl RenderPass {
                 Load::Clear(c) => (vk::AttachmentLoadOp::CLEAR, vk::ImageLayout::UNDEFINED, c),
                 Load::Keep { layout } => (vk::AttachmentLoadOp::LOAD, layout, [0.0; 4]),
             };
+            // A depth the pass leaves in its attachment layout is read by nothing after it (the
+            // shadow and reflection passes' depth tests, the photon targets' visibility depth):
+            // its contents need not be written back, which a tiling GPU would pay for.
+            let kept = !(is_depth && a.final_layout == vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
+            let store_op = if kept { vk::AttachmentStoreOp::STORE } else { vk::AttachmentStoreOp::DONT_CARE };
             descs.push(
                 vk::AttachmentDescription::default()
                     .format(a.image.format)
                     .samples(vk::SampleCountFlags::TYPE_1)
                     .load_op(load_op)
-                    .store_op(vk::AttachmentStoreOp::STORE)
+                    .store_op(store_op)
                     .stencil_load_op(vk::AttachmentLoadOp::DONT_CARE)
                     .stencil_store_op(vk::AttachmentStoreOp::DONT_CARE)
                     .initial_layout(initial)
