@@ -60,6 +60,7 @@
 #include "caustic_splat.glsl"
 
 const float SLIVER_PIXELS = 1.0; // px²; see above (a footprint's side is at most a pixel)
+const float THIN_TRIANGLE_HEIGHT = 2.0; // px across its longest edge: a triangle under it is drawn as a strip
 const float THIN_SLIVER_LENGTH = 1.5; // px: a sliver longer than this is drawn along its length
 const float FOOTPRINT_MAX_EDGE = 64.0; // px: the longest edge a handed-back photon's cell is drawn with
 const int MAX_SIDE = TRIANGLE_MAX_SUBDIVISION + 1;  // photons per axis an invocation casts
@@ -78,8 +79,9 @@ layout(constant_id = 0) const uint SUBDIVISION = 2;
 layout(push_constant) uniform GridPush { uint grid; } pc;
 
 layout(location = 0) flat in uvec2 v_cell[];
-// rgb: irradiance / E_surface, interpolated per vertex; a: 0, or a sliver's footprint code
-// (shader_math.glsl), the same at its four corners.
+// rgb: irradiance / E_surface, interpolated per vertex; a: 0, a strip's code across it
+// (strip_across_code, shader_math.glsl), or a sliver's footprint code, the same at its four
+// corners.
 layout(location = 0) out vec4 g_irradiance;
 
 // The invocation's photons, row by row, SUBDIVISION + 1 per row.
@@ -206,11 +208,12 @@ void gather_triangle(int a, int b, int c, int qa, int qb, int qc) {
     }
 }
 
-// Emits the sliver (a, b, c) as a strip one pixel wide along its longest edge, through the
-// middle of its height, when that edge is longer than THIN_SLIVER_LENGTH pixels; `per_pixel`
-// is its flux over the receiver area of one pixel (/E_surface). The strip covers about as
-// many pixel centres as it is long, and each takes per_pixel over that length: its flux,
-// exactly in expectation over the strip's position.
+// Emits the sliver (a, b, c) as a strip along its longest edge, through the middle of its
+// height, when that edge is longer than THIN_SLIVER_LENGTH pixels; `per_pixel` is its flux
+// over the receiver area of one pixel (/E_surface). The strip is two pixels wide, and each
+// pixel takes per_pixel over its length, weighted by the tent of its distance from the
+// strip's middle (strip_weight, shader_math.glsl): the weights sum to about the strip's
+// length, so it deposits its flux.
 bool emit_thin_sliver(int a, int b, int c, vec3 per_pixel) {
     int corners[3] = int[3](a, b, c);
     vec2 p[3] = vec2[3](target_pixel(clip[a]), target_pixel(clip[b]), target_pixel(clip[c]));
@@ -229,13 +232,22 @@ bool emit_thin_sliver(int a, int b, int c, vec3 per_pixel) {
     vec3 value = per_pixel / length_px;
     for (int k = 0; k < 4; ++k) {
         vec4 end = ends[k >> 1];
-        vec2 offset_px = across * (middle + ((k & 1) == 0 ? -0.5 : 0.5));
+        float d = (k & 1) == 0 ? -1.0 : 1.0;
+        vec2 offset_px = across * (middle + d);
         gl_Position = end + vec4(offset_px * 2.0 / frame.caustic_target_size * end.w, 0.0, 0.0);
-        g_irradiance = vec4(value, 0.0);
+        g_irradiance = vec4(value, strip_across_code(d));
         EmitVertex();
     }
     EndPrimitive();
     return true;
+}
+
+// Whether triangle (a, b, c), of `pixels` px², is thinner than THIN_TRIANGLE_HEIGHT pixels
+// across its longest edge.
+bool thin_triangle(int a, int b, int c, float pixels) {
+    vec2 pa = target_pixel(clip[a]), pb = target_pixel(clip[b]), pc = target_pixel(clip[c]);
+    float longest = max(max(distance(pa, pb), distance(pb, pc)), distance(pc, pa));
+    return 2.0 * pixels < THIN_TRIANGLE_HEIGHT * longest;
 }
 
 // A photon's cell on its receiver in target pixels, from the light alone (a directional
@@ -301,9 +313,9 @@ void emit_triangle(int a, int b, int c) {
             // overstated the port's distant, grazing seabed: flux +5.6 % against +2.4 %.) A
             // triangle too small for the ratio to be more than rounding keeps the estimate.
             if (area > 1e-12 && pixels > 1e-4) s.irradiance.rgb = share * pixels / (area * frame.surface_irradiance);
-            // A long, thin sliver (a fold's edge) is laid along its length as a strip one
-            // pixel wide carrying its flux: each pixel centre in the strip takes an equal
-            // share. Anything smaller goes to the pixels its footprint overlaps
+            // A long, thin sliver (a fold's edge) is laid along its length as a strip
+            // carrying its flux (emit_thin_sliver). Anything smaller goes to the pixels its
+            // footprint overlaps
             // (sliver_footprint_code, shader_math.glsl). Drawn at its centroid, a fold
             // through sparse photons was a dotted line (the port's near seabed).
             if (emit_thin_sliver(a, b, c, s.irradiance.rgb)) return;
@@ -312,8 +324,12 @@ void emit_triangle(int a, int b, int c) {
         }
         return;
     }
-    vec3 ea = photon_irradiance(a), eb = photon_irradiance(b), ec = photon_irradiance(c);
     vec3 flat_e = triangle_flux(a, b, c) / (area * frame.surface_irradiance);
+    // Thinner than a pixel on average, a triangle would cover the pixel centres along it in a
+    // broken line (a grazed wall's hatching, docs/accuracy.md "Strips weighed by a tent
+    // across"): it is drawn as a strip with its own flux, as a sliver is.
+    if (thin_triangle(a, b, c, pixels) && emit_thin_sliver(a, b, c, flat_e * pixels)) return;
+    vec3 ea = photon_irradiance(a), eb = photon_irradiance(b), ec = photon_irradiance(c);
     vec3 mean_e = (ea + eb + ec) / 3.0;
     vec3 scale = flat_e / max(mean_e, vec3(1e-30));
     ea *= scale; eb *= scale; ec *= scale;

@@ -324,4 +324,34 @@ float sliver_footprint_weight(vec2 pixel, float code) {
     return overlap.x * overlap.y;
 }
 
+// A long, thin sliver (a fold's edge) is laid along its length as a strip (emit_thin_sliver).
+// Drawn one pixel wide with every covered pixel taking the same value, it covered one or two
+// pixel centres per row at random, and a grazed wall's thousands of parallel slivers read as a
+// dotted hatching where the reference has a smooth wash. So it is drawn two pixels wide, and
+// each pixel takes the tent 1 − |d| of its centre's distance d (pixels) from the strip's middle
+// line: a box one pixel wide filtered by the pixel's own box, across the strip. Along any row
+// or column the tent's samples at unit spacing sum to 1 whatever the offset, so the strip
+// deposits its flux smoothly, not only in expectation. The geometry shader passes d in the
+// irradiance's fourth component, interpolated across the strip, as a code between the
+// triangles' 0 and the footprints' codes above 0.5 (STRIP_CODE_MIDDLE ± STRIP_CODE_SCALE).
+const float STRIP_CODE_MIDDLE = 0.25;
+const float STRIP_CODE_SCALE = 0.125; // per pixel of d, so d ∈ [−1, 1] codes into [0.125, 0.375]
+
+float strip_across_code(float d) {
+    return STRIP_CODE_MIDDLE + STRIP_CODE_SCALE * d;
+}
+
+bool is_strip_code(float code) {
+    return code > 0.0625 && code < 0.4375;
+}
+
+// d, from the code.
+float strip_across(float code) {
+    return (code - STRIP_CODE_MIDDLE) / STRIP_CODE_SCALE;
+}
+
+float strip_weight(float code) {
+    return max(1.0 - abs(strip_across(code)), 0.0);
+}
+
 #endif
