@@ -60,7 +60,7 @@
 #include "caustic_splat.glsl"
 
 const float SLIVER_PIXELS = 1.0; // px²; see above (a footprint's side is at most a pixel)
-const float THIN_TRIANGLE_HEIGHT = 2.0; // px across its longest edge: a triangle under it is drawn as a strip
+const float THIN_TRIANGLE_HEIGHT = 1.0; // px across its longest edge: a triangle under it is drawn as a strip
 const float THIN_SLIVER_LENGTH = 1.5; // px: a sliver longer than this is drawn along its length
 const float FOOTPRINT_MAX_EDGE = 64.0; // px: the longest edge a handed-back photon's cell is drawn with
 const int MAX_SIDE = TRIANGLE_MAX_SUBDIVISION + 1;  // photons per axis an invocation casts
