@@ -37,8 +37,9 @@ const OUTPUT: [u32; 2] = [160, 160];
 /// mesh cell is cut along its shorter diagonal ("Handed-back flux over the photons' cells",
 /// "Cells split along their shorter diagonal"). 1.119 since the survey sends photons only
 /// towards receivers the light reaches ("Photons for lit receivers only"): a return to 1.43
-/// fails the guard.
-const DEFAULT_RMSE_MEASURED: f64 = 1.119;
+/// fails the guard. 0.953 since thin slivers and triangles are strips weighed by a tent
+/// across ("Strips weighed by a tent across"): the one-pixel strips' 1.119 fails the guard.
+const DEFAULT_RMSE_MEASURED: f64 = 0.953;
 
 fn tank() -> Scene {
     underlight::scene::load("tank").unwrap()
