@@ -325,8 +325,8 @@ void emit_triangle(int a, int b, int c) {
         return;
     }
     vec3 flat_e = triangle_flux(a, b, c) / (area * frame.surface_irradiance);
-    // Thinner than a pixel on average, a triangle would cover the pixel centres along it in a
-    // broken line (a grazed wall's hatching, docs/accuracy.md "Strips weighed by a tent
+    // Under a pixel across its longest edge, a triangle would cover the pixel centres along it
+    // in a broken line (a grazed wall's hatching, docs/accuracy.md "Strips weighed by a tent
     // across"): it is drawn as a strip with its own flux, as a sliver is.
     if (thin_triangle(a, b, c, pixels) && emit_thin_sliver(a, b, c, flat_e * pixels)) return;
     vec3 ea = photon_irradiance(a), eb = photon_irradiance(b), ec = photon_irradiance(c);
