@@ -14,7 +14,7 @@ use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
 use crate::vk::image::Image;
 use crate::vk::pipeline::Pipeline;
-use crate::vk::render_pass::{Attachment, Load, RenderPass};
+use crate::vk::render_pass::{Attachment, Load, RenderPass, Store};
 use ash::vk;
 use std::sync::Arc;
 
@@ -56,11 +56,13 @@ impl ReflectionPass {
             &[Attachment {
                 image: &color,
                 load: Load::Clear([0.0; 4]),
+                store: Store::Keep,
                 final_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
             }],
             Some(&Attachment {
                 image: &depth,
                 load: Load::Clear([1.0; 4]),
+                store: Store::Discard, // its own depth test only
                 final_layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
             }),
         )?;

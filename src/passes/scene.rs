@@ -14,7 +14,7 @@ use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
 use crate::vk::image::Image;
 use crate::vk::pipeline::{GraphicsPipelineDesc, Pipeline};
-use crate::vk::render_pass::{Attachment, Load, RenderPass};
+use crate::vk::render_pass::{Attachment, Load, RenderPass, Store};
 use ash::vk;
 use std::sync::Arc;
 
@@ -103,10 +103,10 @@ impl CameraTargets {
             device,
             pass,
             &[
-                Attachment { image: &color, load: Load::Clear([0.0; 4]), final_layout: read },
-                Attachment { image: &albedo, load: Load::Clear([0.0; 4]), final_layout: read },
+                Attachment { image: &color, load: Load::Clear([0.0; 4]), store: Store::Keep, final_layout: read },
+                Attachment { image: &albedo, load: Load::Clear([0.0; 4]), store: Store::Keep, final_layout: read },
             ],
-            Some(&Attachment { image: &depth, load: Load::Clear([1.0; 4]), final_layout: read }),
+            Some(&Attachment { image: &depth, load: Load::Clear([1.0; 4]), store: Store::Keep, final_layout: read }),
         )?;
         Ok(Self { color, albedo, depth, render_pass })
     }

@@ -18,7 +18,7 @@ use crate::vk::descriptors::{Binding, DescriptorSets};
 use crate::vk::device::Device;
 use crate::vk::image::Image;
 use crate::vk::pipeline::{GraphicsPipelineDesc, Pipeline};
-use crate::vk::render_pass::{Attachment, Load, RenderPass};
+use crate::vk::render_pass::{Attachment, Load, RenderPass, Store};
 use ash::vk;
 use std::sync::Arc;
 
@@ -81,12 +81,13 @@ fn map_render_pass(
         device,
         name,
         &[
-            Attachment { image: position, load: Load::Clear([0.0; 4]), final_layout: read },
-            Attachment { image: normal, load: Load::Clear([0.0; 4]), final_layout: read },
+            Attachment { image: position, load: Load::Clear([0.0; 4]), store: Store::Keep, final_layout: read },
+            Attachment { image: normal, load: Load::Clear([0.0; 4]), store: Store::Keep, final_layout: read },
         ],
         Some(&Attachment {
             image: depth,
             load: Load::Clear([1.0; 4]),
+            store: Store::Discard, // its own depth test only; the maps hold the positions
             final_layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
         }),
     )

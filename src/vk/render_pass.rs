@@ -18,11 +18,21 @@ pub enum Load {
     Keep { layout: vk::ImageLayout },
 }
 
+/// What happens to an attachment's contents when the pass ends.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Store {
+    /// Written back: something after the pass reads them.
+    Keep,
+    /// Left undefined: nothing reads them after the pass (a depth used only for this pass's
+    /// own test), so a tiling GPU need not write them back.
+    Discard,
+}
+
 pub struct Attachment<'a> {
     pub image: &'a Image,
     pub load: Load,
-    /// Layout the pass leaves the image in, chosen for its next use. A depth left in
-    /// DEPTH_STENCIL_ATTACHMENT_OPTIMAL has no next use: its contents are not stored.
+    pub store: Store,
+    /// Layout the pass leaves the image in, chosen for its next use.
     pub final_layout: vk::ImageLayout,
 }
 
@@ -49,11 +59,10 @@ impl RenderPass {
                 Load::Clear(c) => (vk::AttachmentLoadOp::CLEAR, vk::ImageLayout::UNDEFINED, c),
                 Load::Keep { layout } => (vk::AttachmentLoadOp::LOAD, layout, [0.0; 4]),
             };
-            // A depth the pass leaves in its attachment layout is read by nothing after it (the
-            // shadow and reflection passes' depth tests, the photon targets' visibility depth):
-            // its contents need not be written back, which a tiling GPU would pay for.
-            let kept = !(is_depth && a.final_layout == vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL);
-            let store_op = if kept { vk::AttachmentStoreOp::STORE } else { vk::AttachmentStoreOp::DONT_CARE };
+            let store_op = match a.store {
+                Store::Keep => vk::AttachmentStoreOp::STORE,
+                Store::Discard => vk::AttachmentStoreOp::DONT_CARE,
+            };
             descs.push(
                 vk::AttachmentDescription::default()
                     .format(a.image.format)
@@ -222,12 +231,13 @@ impl ColorTarget {
         let depth_attachment = depth.as_ref().map(|image| Attachment {
             image,
             load: Load::Clear([1.0; 4]),
+            store: Store::Discard,
             final_layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
         });
         let render_pass = RenderPass::new(
             device,
             name,
-            &[Attachment { image: &image, load: Load::Clear([0.0; 4]), final_layout }],
+            &[Attachment { image: &image, load: Load::Clear([0.0; 4]), store: Store::Keep, final_layout }],
             depth_attachment.as_ref(),
         )?;
         Ok(Self { render_pass, image, depth })
