@@ -493,7 +493,7 @@ pub fn strip_across_code(d: f32) -> f32 {
 
 /// GLSL `is_strip_code`: whether a fragment's code is a strip's.
 pub fn is_strip_code(code: f32) -> bool {
-    code > 0.0625 && code < 0.4375
+    (code - STRIP_CODE_MIDDLE).abs() < 1.5 * STRIP_CODE_SCALE
 }
 
 /// GLSL `strip_across`: the distance from the strip's middle that `code` carries.

@@ -341,8 +341,9 @@ float strip_across_code(float d) {
     return STRIP_CODE_MIDDLE + STRIP_CODE_SCALE * d;
 }
 
+// d ∈ [−1, 1] with half that span again of margin on either side: clear of 0 and 0.5.
 bool is_strip_code(float code) {
-    return code > 0.0625 && code < 0.4375;
+    return abs(code - STRIP_CODE_MIDDLE) < 1.5 * STRIP_CODE_SCALE;
 }
 
 // d, from the code.
