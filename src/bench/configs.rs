@@ -2,7 +2,7 @@
 //! it (triangles-800, marched-800, above-800) and a tiny one for smoke tests, and how a configuration is
 //! applied to a scene.
 
-use crate::scene::{CausticEstimator, GodrayMethod, Scene};
+use crate::scene::{CausticEstimator, GodrayMethod, PhotonSpread, Scene};
 use serde::Serialize;
 
 /// A benchmark configuration: the output size and effect settings applied to a scene.
@@ -20,6 +20,9 @@ pub struct BenchConfig {
     pub caustic_subdivision: Option<u32>,
     /// The godray method (the paper's beams).
     pub godray_method: GodrayMethod,
+    /// How both photon grids are spread: the paper's even grids, or `None` to keep the
+    /// scene's (the built-in scenes ship the view's spread with their triangles).
+    pub photon_density: Option<PhotonSpread>,
     /// Effect targets as fractions of the output; `None` keeps the scene's.
     pub caustic_target_scale: Option<f32>,
     pub godray_target_scale: Option<f32>,
@@ -46,6 +49,9 @@ pub fn configs() -> Vec<BenchConfig> {
         caustic_estimator: CausticEstimator::Paper,
         caustic_subdivision: None,
         godray_method: GodrayMethod::Beams,
+        // The paper casts on an even light-space grid; the view's warp came with the
+        // triangles (docs/accuracy.md) and stays with the configurations that measure them.
+        photon_density: Some(PhotonSpread::Even),
         // 512² and 128² at 800².
         caustic_target_scale: Some(0.64),
         godray_target_scale: Some(0.16),
@@ -86,6 +92,7 @@ pub fn configs() -> Vec<BenchConfig> {
             caustic_grid: 100,
             caustic_subdivision: Some(3),
             caustic_target_scale: Some(1.0),
+            photon_density: None,
             paper_fps: "-",
             ..base.clone()
         },
@@ -98,6 +105,7 @@ pub fn configs() -> Vec<BenchConfig> {
             caustic_subdivision: Some(3),
             caustic_target_scale: Some(1.0),
             godray_method: GodrayMethod::Marched,
+            photon_density: None,
             paper_fps: "-",
             ..base.clone()
         },
@@ -110,6 +118,7 @@ pub fn configs() -> Vec<BenchConfig> {
             caustic_subdivision: Some(3),
             caustic_target_scale: Some(1.0),
             godray_method: GodrayMethod::Footprint,
+            photon_density: None,
             paper_fps: "-",
             ..base.clone()
         },
@@ -130,6 +139,10 @@ impl BenchConfig {
         e.godray_subdivision = self.subdivision;
         e.caustic_estimator = self.caustic_estimator;
         e.godray_method = self.godray_method;
+        if let Some(spread) = self.photon_density {
+            e.caustic_photon_density = spread;
+            e.godray_photon_density = spread;
+        }
         if let Some(v) = self.caustic_target_scale {
             e.caustic_target_scale = v;
         }
@@ -176,5 +189,16 @@ mod tests {
             .iter()
             .filter(|c| c.name.starts_with("paper"))
             .all(|c| c.caustic_estimator == CausticEstimator::Paper));
+        // ... and its even photon grids, whatever spread the scene ships.
+        let tank = crate::scene::load("tank").unwrap();
+        assert_eq!(tank.effects.caustic_photon_density, PhotonSpread::View);
+        for config in c.iter().filter(|c| c.name.starts_with("paper")) {
+            let applied = config.apply(&tank);
+            assert_eq!(applied.effects.caustic_photon_density, PhotonSpread::Even, "{}", config.name);
+            assert_eq!(applied.effects.godray_photon_density, PhotonSpread::Even, "{}", config.name);
+        }
+        // The triangles' configurations measure the scene as it ships.
+        let triangles = c.iter().find(|c| c.name == "triangles-800").unwrap().apply(&tank);
+        assert_eq!(triangles.effects.caustic_photon_density, PhotonSpread::View);
     }
 }
