@@ -12,6 +12,8 @@
 #     source .gpu/env.sh; bash scripts/gpu-check.sh --out "$OUT"
 #   Anywhere, as a smoke test of this script (tiny configuration, one scene, lavapipe):
 #     bash scripts/gpu-check.sh --quick --out out/gpu-check
+#   (tests/gpu_check.rs runs that with --bin, the binary cargo built for the tests).
+#   --bin PATH runs that binary instead of .gpu/underlight or target/release/underlight.
 #
 # Sized to finish in under 8 minutes on the H200: the benches run 20 frames after 3 warm-up
 # frames; the accuracy step renders 3 scenes at 320×200 and reads the references from the
@@ -21,12 +23,14 @@ cd "$(dirname "$0")/.."
 
 mode=run
 out=out/gpu-check
+bin=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --prepare) mode=prepare ;;
     --quick) mode=quick ;;
-    --out) out="$2"; shift ;;
-    *) echo "gpu-check: unknown argument $1 (expected --prepare, --quick or --out DIR)" >&2; exit 2 ;;
+    --out) out="${2:?gpu-check: --out needs a folder}"; shift ;;
+    --bin) bin="${2:?gpu-check: --bin needs the path to an underlight binary}"; shift ;;
+    *) echo "gpu-check: unknown argument $1 (expected --prepare, --quick, --out DIR or --bin PATH)" >&2; exit 2 ;;
   esac
   shift
 done
@@ -51,7 +55,9 @@ if [ "$mode" = prepare ]; then
   exit 0
 fi
 
-if [ -x .gpu/underlight ]; then
+if [ -n "$bin" ]; then
+  if [ ! -x "$bin" ]; then echo "gpu-check: --bin $bin is not an executable file" >&2; exit 1; fi
+elif [ -x .gpu/underlight ]; then
   bin=.gpu/underlight
 elif [ -x target/release/underlight ]; then
   bin=target/release/underlight
