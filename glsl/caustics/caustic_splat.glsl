@@ -93,13 +93,13 @@ bool caustic_splat(Photon ph, out CausticSplat s) {
     // wherever it lands, so each photon deposits exactly its flux (a fractional size covers
     // floor² or ceil² pixels depending on its sub-pixel position).
     size = clamp(round(size), 1.0, floor(frame.device_max_point_size));
-    // The receiver's normal, read once for the side test and the splat's area
-    // (receiver_normal's value).
-    ivec2 texel;
+    // The receiver's normal for the side test and the splat's area: the one the cast read at
+    // the texel whose plane placed the hit, not read again at the hit's own texel (a second
+    // fetch per photon, and on a receiver's edge another receiver's normal).
+    vec3 stored = ph.receiver_normal;
     vec3 n = vec3(0.0);
-    if (light_texel(ph.hit, ph.steep_map, texel)) {
-        vec3 stored = map_normal(texel, ph.steep_map);
-        if (dot(stored, stored) > 0.25 && !lit_side_faces_camera(ph.hit, stored, ph.direction)) { s.irradiance = vec4(0.0); return false; }
+    if (dot(stored, stored) > 0.25) {
+        if (!lit_side_faces_camera(ph.hit, stored, ph.direction)) { s.irradiance = vec4(0.0); return false; }
         n = normalize(stored + 1e-6);
     }
     return caustic_square_on(ph.hit, n, ph.flux * water_transmittance(ph.travelled), size, s);

@@ -23,6 +23,9 @@ struct Photon {
     float travelled;  // |p_i − p_s|, m
     float cell_scale; // its grid cell's area over the even grid's (photon_density_warp; 1 unwarped)
     bool steep_map;   // its hit was found in the second, steeper maps (its receiver's normal is there)
+    // Its receiver's normal as the light's map stores it at the texel whose plane placed the
+    // hit (intersect_receivers), unnormalised; zero where the search found no receiver.
+    vec3 receiver_normal;
     vec2 window_uv;   // where in the photon window it was cast, after the warp ([0, 1]² inside)
     // W per unit of the window's uv area that it carries (after the surface, like flux):
     // its flux over its warped cell's area, kept apart because a cell wholly outside the window
@@ -185,7 +188,8 @@ int photon_fate = PHOTON_LANDED; // set by every cast_photon
 // Where the map holds nothing straight along the light ray (at a low sun that ray leaves
 // the receivers long before the refracted one would), the guess is the scene's lowest
 // point: exact for a flat floor, and the secant steps correct it for anything above.
-int intersect_receivers(vec3 ps, vec3 rt, bool steep, out vec3 hit, out float dist) {
+int intersect_receivers(vec3 ps, vec3 rt, bool steep, out vec3 hit, out float dist, out vec3 normal) {
+    normal = vec3(0.0);
     float bottom = ps.y - frame.scene_lowest_y;
     dist = bottom > 1e-3 ? bottom / max(-rt.y, 1e-3) : 1.0;
     hit = ps;
@@ -228,6 +232,7 @@ int intersect_receivers(vec3 ps, vec3 rt, bool steep, out vec3 hit, out float di
     vec4 r = map_receiver(texel, steep);
     if (r.w <= 0.0) return PHOTON_LEAVES_MAP;
     vec3 rn = map_normal(texel, steep);
+    normal = rn;
     vec3 to_hit = light_map_direction(hit, steep);
     // The iteration ends on the right texel but anywhere inside it: the stored receiver is the
     // one at the texel's centre, and the estimate's error is up to a texel, several mm on the
@@ -248,6 +253,7 @@ bool cast_photon(vec2 uv, vec2 photons_per_axis, out Photon ph) {
     ph.surface = vec3(0.0); ph.direction = vec3(0.0); ph.hit = vec3(0.0); ph.flux = 0.0; ph.travelled = 0.0;
     ph.cell_scale = 1.0;
     ph.steep_map = false;
+    ph.receiver_normal = vec3(0.0);
     ph.window_uv = vec2(0.0);
     ph.flux_density = 0.0;
     photon_fate = PHOTON_LANDED;
@@ -317,12 +323,13 @@ bool cast_photon(vec2 uv, vec2 photons_per_axis, out Photon ph) {
     int map_pairs = frame.steep_light_axis.y < -1e-3 ? 2 : 1;
     for (int pair = 0; pair < map_pairs; ++pair) {
         bool steep = pair == 1;
-        vec3 pair_hit;
+        vec3 pair_hit, pair_normal;
         float pair_dist;
-        int pair_fate = intersect_receivers(ps, rt, steep, pair_hit, pair_dist);
+        int pair_fate = intersect_receivers(ps, rt, steep, pair_hit, pair_dist, pair_normal);
         if (!steep || pair_fate == PHOTON_LANDED) {
             fate = pair_fate;
             hit = pair_hit;
+            ph.receiver_normal = pair_normal;
             dist = pair_dist;
             ph.steep_map = steep;
         }
