@@ -43,6 +43,12 @@ struct Photon {
 // rays' length through the water above where they enter (effects.caustic_photon_density,
 // godray_photon_density). The knots are read from the frame's buffer itself, not from its
 // copy in `frame` (frame.glsl says why).
+// Whether the pass's pipeline may warp its grid at all: false where the scene spreads this
+// grid evenly (passes/caustics.rs and godrays.rs specialize it), so the warp is compiled out
+// there. A branch on the frame's value alone does not skip the warp's work on llvmpipe, whose
+// shaders run both sides of a branch masked (docs/performance.md, "The view's warp compiled
+// out where a scene spreads its photons evenly").
+layout(constant_id = 1) const bool PHOTON_WARP = true;
 #ifdef PHOTON_BEAMS
 #define DENSITY_WARP frame.godray_density_warp
 #define DENSITY_ROWS frame_buffer.godray_density_rows
@@ -262,7 +268,7 @@ bool cast_photon(vec2 uv, vec2 photons_per_axis, out Photon ph) {
     // warped to where the view needs photons (effects.caustic_photon_density and
     // godray_photon_density; the identity without).
     uv += frame.photon_jitter / photons_per_axis;
-    if (DENSITY_WARP > 0.0) uv = photon_density_warp(uv, 0.5 / photons_per_axis, ph.cell_scale);
+    if (PHOTON_WARP && DENSITY_WARP > 0.0) uv = photon_density_warp(uv, 0.5 / photons_per_axis, ph.cell_scale);
     ph.window_uv = uv;
     uv = frame.photon_window_min + uv * frame.photon_window_size;
     vec2 ndc = uv * 2.0 - 1.0;

@@ -450,15 +450,7 @@ impl Frame {
         let caustics = if plan.runs(PassId::Caustics) {
             let e = &scene.effects;
             let ext = vk::Extent2D { width: extents.caustic[0], height: extents.caustic[1] };
-            Some(CausticsPass::new(
-                device,
-                ext,
-                e.caustic_grid,
-                e.caustic_subdivision,
-                e.caustic_estimator,
-                options.record_photons,
-                options.photon_path,
-            )?)
+            Some(CausticsPass::new(device, ext, e, options.record_photons, options.photon_path)?)
         } else {
             None
         };

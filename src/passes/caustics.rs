@@ -9,7 +9,7 @@ use crate::passes::photon_accumulation::{dispatch_per_photon, require_float_atom
 use crate::passes::photon_records::PhotonRecords;
 use crate::passes::photon_visibility::{VisibilityDepth, VisibilityTarget};
 use crate::passes::{require_accumulation_format, PhotonPath, ACCUMULATION_FORMAT, PHOTON_SETS};
-use crate::scene::CausticEstimator;
+use crate::scene::{CausticEstimator, Effects, PhotonSpread};
 use crate::shader_abi::bindings as b;
 use crate::shaders;
 use crate::vk::buffer::Buffer;
@@ -86,12 +86,12 @@ impl CausticsPass {
     pub fn new(
         device: &Arc<Device>,
         extent: vk::Extent2D,
-        grid: u32,
-        subdivision: u32,
-        estimator: CausticEstimator,
+        effects: &Effects,
         record_photons: bool,
         path: PhotonPath,
     ) -> Result<Self> {
+        let (grid, subdivision, estimator) =
+            (effects.caustic_grid, effects.caustic_subdivision, effects.caustic_estimator);
         let triangles = estimator == CausticEstimator::Triangles;
         if triangles && path != PhotonPath::GeometryShader {
             return Err(Error::InvalidParameter {
@@ -132,7 +132,10 @@ impl CausticsPass {
         let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
         let target =
             ColorTarget::with_optional_depth(device, "caustics", extent, ACCUMULATION_FORMAT, read, draws_points)?;
-        let specialization = [(0, subdivision)];
+        // PHOTON_WARP (photon_cast.glsl): the cast evaluates the view's warp only where the
+        // scene spreads its photons for the view.
+        let warps = effects.caustic_photon_density == PhotonSpread::View;
+        let specialization = [(0, subdivision), (1, warps as u32)];
         let set_layouts = [sets.layout];
         let compute = |name: &str, shader: &str| {
             shaders::compute_pipeline(

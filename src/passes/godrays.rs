@@ -17,7 +17,7 @@ use crate::passes::photon_accumulation::{dispatch_per_photon, require_float_atom
 use crate::passes::photon_records::PhotonRecords;
 use crate::passes::photon_visibility::{VisibilityDepth, VisibilityTarget};
 use crate::passes::{require_accumulation_format, PhotonPath, ACCUMULATION_FORMAT, PHOTON_SETS};
-use crate::scene::{Effects, GodrayMethod};
+use crate::scene::{Effects, GodrayMethod, PhotonSpread};
 use crate::shader_abi::bindings as b;
 use crate::shaders;
 use crate::vk::descriptors::{Binding, DescriptorSets};
@@ -129,7 +129,10 @@ impl GodraysPass {
         let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
         let target =
             ColorTarget::with_optional_depth(device, "godrays", extent, ACCUMULATION_FORMAT, read, rasterised_beams)?;
-        let specialization = [(0, subdivision)];
+        // PHOTON_WARP (photon_cast.glsl): the cast evaluates the view's warp only where the
+        // scene spreads its beams for the view.
+        let warps = effects.godray_photon_density == PhotonSpread::View;
+        let specialization = [(0, subdivision), (1, warps as u32)];
         let set_layouts = [sets.layout];
         // The photon beams' draws, lines or ribbons, adding into the target.
         let beam_pipeline = |vertex, geometry, topology| GraphicsPipelineDesc {
