@@ -33,6 +33,13 @@ struct Photon {
     float flux_density;
 };
 
+// Whether the pass's pipeline may warp its grid at all: false where the scene spreads this
+// grid evenly (passes/caustics.rs and godrays.rs specialize it), so the warp is compiled out
+// there. A branch on the frame's value alone does not skip the warp's work on llvmpipe, whose
+// shaders run both sides of a branch masked (docs/performance.md, "The view's warp compiled
+// out where a scene spreads its photons evenly").
+layout(constant_id = 1) const bool PHOTON_WARP = true;
+
 // The photon grid's warp (frame::photon_density; Rust twin shader_math::photon_density_warp):
 // grid position g ∈ [0, 1]² to the photon window's uv, through the inverse cumulative
 // densities in the frame's uniforms: the window's v from the rows' knots, the window's u from
@@ -43,12 +50,6 @@ struct Photon {
 // rays' length through the water above where they enter (effects.caustic_photon_density,
 // godray_photon_density). The knots are read from the frame's buffer itself, not from its
 // copy in `frame` (frame.glsl says why).
-// Whether the pass's pipeline may warp its grid at all: false where the scene spreads this
-// grid evenly (passes/caustics.rs and godrays.rs specialize it), so the warp is compiled out
-// there. A branch on the frame's value alone does not skip the warp's work on llvmpipe, whose
-// shaders run both sides of a branch masked (docs/performance.md, "The view's warp compiled
-// out where a scene spreads its photons evenly").
-layout(constant_id = 1) const bool PHOTON_WARP = true;
 #ifdef PHOTON_BEAMS
 #define DENSITY_WARP frame.godray_density_warp
 #define DENSITY_ROWS frame_buffer.godray_density_rows
