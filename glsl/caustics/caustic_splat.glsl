@@ -41,18 +41,12 @@ bool lit_side_faces_camera(vec3 hit, vec3 n, vec3 light_dir) {
     return dot(n, -light_dir) * dot(n, frame.camera_position - hit) > 0.0;
 }
 
-// The normal of the receiver at `hit`, from the light's normal map a photon found it in (the
-// second, steeper maps where `steep`); zero where `hit` lies outside that map.
-vec3 receiver_normal(vec3 hit, bool steep) {
-    ivec2 texel;
-    return light_texel(hit, steep, texel) ? normalize(map_normal(texel, steep) + 1e-6) : vec3(0.0);
-}
-
 // A square splat of `size` whole pixels centred on receiver point `hit`, spreading the
 // transmitted flux `flux` (W per channel, attenuation applied) over the receiver area its
 // pixels cover; false when it cannot touch the target. Shared by the paper's points and by
-// the triangle estimator's fallbacks (caustics_triangles.geom). `n`: the receiver's normal
-// as receiver_normal gives it (zero outside the light's map).
+// the triangle estimator's fallbacks (caustics_triangles.geom). `n`: the receiver's unit
+// normal, as the cast found it (Photon::receiver_normal); zero when unknown (a floor's is
+// taken).
 bool caustic_square_on(vec3 hit, vec3 n, vec3 flux, float size, out CausticSplat s) {
     s.clip = frame.camera_view_proj * vec4(hit, 1.0);
     s.size = size;
@@ -75,12 +69,6 @@ bool caustic_square_on(vec3 hit, vec3 n, vec3 flux, float size, out CausticSplat
     // the light's strength (compose multiplies it back).
     s.irradiance = vec4(flux / (area * frame.surface_irradiance), 1.0);
     return true;
-}
-
-// caustic_square at a point whose normal is still to be read. `steep`: the photon was found
-// in the second light maps, which hold its receiver's normal.
-bool caustic_square(vec3 hit, bool steep, vec3 flux, float size, out CausticSplat s) {
-    return caustic_square_on(hit, receiver_normal(hit, steep), flux, size, s);
 }
 
 // The point a landed photon draws (the paper's estimator); false when it cannot touch the

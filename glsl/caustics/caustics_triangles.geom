@@ -307,9 +307,10 @@ void emit_triangle(int a, int b, int c) {
     if (pixels < SLIVER_PIXELS || !(area > 1e-12)) {
         CausticSplat s;
         vec3 share = triangle_flux(a, b, c);
-        if (caustic_square((hit[a] + hit[b] + hit[c]) / 3.0, steep[a], share, 1.0, s)) {
+        // On its corners' one receiver: a's normal (one_receiver).
+        if (caustic_square_on((hit[a] + hit[b] + hit[c]) / 3.0, normal[a], share, 1.0, s)) {
             // The receiver area one pixel covers, exactly: the triangle's own world area
-            // over its pixels. (caustic_square's estimate bounds cos θ_view by 0.2, which
+            // over its pixels. (caustic_square_on's estimate bounds cos θ_view by 0.2, which
             // overstated the port's distant, grazing seabed: flux +5.6 % against +2.4 %.) A
             // triangle too small for the ratio to be more than rounding keeps the estimate.
             if (area > 1e-12 && pixels > 1e-4) s.irradiance.rgb = share * pixels / (area * frame.surface_irradiance);
@@ -464,7 +465,7 @@ bool emit_footprint(int k, vec3 du, vec3 dv, vec4 reach) {
     if (pixels < SLIVER_PIXELS) {
         CausticSplat s;
         vec3 centre = hit[k] + 0.5 * (lo.x + hi.x) * edges[0] + 0.5 * (lo.y + hi.y) * edges[1];
-        if (!caustic_square(centre, steep[k], returned[k], 1.0, s)) return true; // off the target: nothing to draw
+        if (!caustic_square_on(centre, normal[k], returned[k], 1.0, s)) return true; // off the target: nothing to draw
         s.irradiance.rgb = irradiance * pixels;
         s.size = 2.0;
         emit_square(s, sliver_footprint_code(target_pixel(s.clip), sqrt(pixels)));
