@@ -41,6 +41,12 @@ bool lit_side_faces_camera(vec3 hit, vec3 n, vec3 light_dir) {
     return dot(n, -light_dir) * dot(n, frame.camera_position - hit) > 0.0;
 }
 
+// A landed photon's receiver normal as a unit vector (Photon::receiver_normal: the one the
+// cast read at the texel whose plane placed the hit).
+vec3 unit_receiver_normal(Photon ph) {
+    return normalize(ph.receiver_normal + 1e-6);
+}
+
 // A square splat of `size` whole pixels centred on receiver point `hit`, spreading the
 // transmitted flux `flux` (W per channel, attenuation applied) over the receiver area its
 // pixels cover; false when it cannot touch the target. Shared by the paper's points and by
@@ -88,7 +94,7 @@ bool caustic_splat(Photon ph, out CausticSplat s) {
     vec3 n = vec3(0.0);
     if (dot(stored, stored) > 0.25) {
         if (!lit_side_faces_camera(ph.hit, stored, ph.direction)) { s.irradiance = vec4(0.0); return false; }
-        n = normalize(stored + 1e-6);
+        n = unit_receiver_normal(ph);
     }
     return caustic_square_on(ph.hit, n, ph.flux * water_transmittance(ph.travelled), size, s);
 }

@@ -389,7 +389,7 @@ void search_borders(int side, vec2 photons_per_axis) {
             Photon ph;
             bool on_it = false;
             if (cast_photon(mix(grid_uv[from], grid_uv[to], t), photons_per_axis, ph)) {
-                on_it = on_receiver_of(from, ph.hit, normalize(ph.receiver_normal + 1e-6));
+                on_it = on_receiver_of(from, ph.hit, unit_receiver_normal(ph));
                 // Where the other end landed too, the sample belongs to whichever end's plane
                 // it lies nearer: on_receiver_of alone drifts with the distance from `from`,
                 // and put the border between two facets 30° apart past their crease (+5 %
@@ -552,8 +552,7 @@ void main() {
             flux_density[k] = landed[k] ? ph.flux_density * water_transmittance(ph.travelled) : vec3(0.0);
             window_uv[k] = ph.window_uv;
             steep[k] = ph.steep_map;
-            // The normal the cast read where it placed the hit (Photon::receiver_normal).
-            normal[k] = landed[k] ? normalize(ph.receiver_normal + 1e-6) : vec3(0.0);
+            normal[k] = landed[k] ? unit_receiver_normal(ph) : vec3(0.0);
             clip[k] = frame.camera_view_proj * vec4(ph.hit, 1.0);
             seen[k] = landed[k] && lit_side_faces_camera(ph.hit, normal[k], ph.direction);
             returned[k] = vec3(0.0);
