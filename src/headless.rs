@@ -5,6 +5,7 @@ use crate::frame::FrameRing;
 use crate::frame::PassTimings;
 use crate::frame::{Frame, FrameOptions};
 use crate::image_io::HdrImage;
+use crate::passes::shadow::{FIRST_MAPS, STEEP_MAPS};
 use crate::passes::PassId;
 use crate::scene::Scene;
 use crate::vk::device::Device;
@@ -122,14 +123,18 @@ impl SceneRenderer {
         for (slot, image) in effects.iter_mut().zip(effect_images(&frame)) {
             *slot = image.map(|i| Readback::new(device, i)).transpose()?;
         }
-        // With photon recording, each pair of light maps the frame has (positions, normals).
-        let maps = |pair: Option<(&Image, &Image)>| -> Result<Option<[Readback; 2]>> {
-            pair.filter(|_| options.record_photons)
-                .map(|(position, normal)| Ok([Readback::new(device, position)?, Readback::new(device, normal)?]))
-                .transpose()
+        // With photon recording, each pair of light maps the frame has (positions, normals):
+        // the layers of the shadow pass's map arrays.
+        let maps = |layer: u32| -> Result<Option<[Readback; 2]>> {
+            let Some(shadow) = frame.shadow.as_ref().filter(|s| options.record_photons && layer < s.pairs()) else {
+                return Ok(None);
+            };
+            Ok(Some([
+                Readback::of_layer(device, &shadow.position, layer)?,
+                Readback::of_layer(device, &shadow.normal, layer)?,
+            ]))
         };
-        let [first, second] = light_map_pairs(&frame);
-        let (light_maps, steep_light_maps) = (maps(first)?, maps(second)?);
+        let (light_maps, steep_light_maps) = (maps(FIRST_MAPS)?, maps(STEEP_MAPS)?);
         Ok(Self { frame, ring, output, scene_color, albedo_transmittance, effects, light_maps, steep_light_maps })
     }
 
@@ -161,11 +166,10 @@ impl SceneRenderer {
                             rb.record_from(cmd, image, read);
                         }
                     }
-                    for (readbacks, pair) in [lm, steep_lm].into_iter().zip(light_map_pairs(frame)) {
-                        if let (Some([positions, normals]), Some((position, normal))) = (readbacks, pair) {
-                            positions.record_from(cmd, position, read);
-                            normals.record_from(cmd, normal, read);
-                        }
+                    for [positions, normals] in [lm, steep_lm].into_iter().flatten() {
+                        let shadow = frame.shadow.as_ref().expect("light map read-backs without a shadow pass");
+                        positions.record_from(cmd, &shadow.position, read);
+                        normals.record_from(cmd, &shadow.normal, read);
                     }
                 });
             }
@@ -242,11 +246,4 @@ fn effect_images(frame: &Frame) -> [Option<&Image>; 4] {
         frame.godrays.as_ref().map(|g| &g.target.image),
         frame.godray_filter.as_ref().map(|f| &f.output.image),
     ]
-}
-
-/// The frame's pairs of light maps (positions, normals): the first, and the second, steeper
-/// one where it has them.
-fn light_map_pairs(frame: &Frame) -> [Option<(&Image, &Image)>; 2] {
-    let shadow = frame.shadow.as_ref();
-    [shadow.map(|s| (&s.position, &s.normal)), shadow.and_then(|s| s.steep.as_ref()).map(|s| (&s.position, &s.normal))]
 }

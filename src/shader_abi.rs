@@ -190,6 +190,8 @@ pub mod limits {
 pub mod bindings {
     pub const UNIFORMS: u32 = 0;
     pub const NOISE: u32 = 1;
+    /// The light's receiver maps, each an array with a layer per pair of maps (the first; the
+    /// second, steeper one where the maps bend): passes::shadow::FIRST_MAPS, STEEP_MAPS.
     pub const LIGHT_POSITION: u32 = 2;
     pub const LIGHT_NORMAL: u32 = 3;
     pub const SCENE_DEPTH: u32 = 4;
@@ -210,13 +212,9 @@ pub mod bindings {
     pub const REFRACTION_ALBEDO: u32 = 14;
     pub const REFRACTION_DEPTH: u32 = 15;
     pub const REFLECTION_COLOR: u32 = 16;
-    /// The second light maps, bent along `FrameUniforms::steep_light_axis` (the shadow pass's
-    /// `steep` maps; the first maps again where the light does not bend).
-    pub const LIGHT_POSITION_STEEP: u32 = 17;
-    pub const LIGHT_NORMAL_STEEP: u32 = 18;
     /// The frame's values (`UNIFORMS` up to its warp tables, the same buffer) as a uniform
     /// block, which the fragment shaders read (glsl/shared/frame.glsl says why).
-    pub const FRAME_VALUES: u32 = 19;
+    pub const FRAME_VALUES: u32 = 17;
     /// Every binding by its macro name, for the shader compiler.
     pub const ALL: &[(&str, u32)] = &[
         ("UNIFORMS", UNIFORMS),
@@ -236,8 +234,6 @@ pub mod bindings {
         ("REFRACTION_ALBEDO", REFRACTION_ALBEDO),
         ("REFRACTION_DEPTH", REFRACTION_DEPTH),
         ("REFLECTION_COLOR", REFLECTION_COLOR),
-        ("LIGHT_POSITION_STEEP", LIGHT_POSITION_STEEP),
-        ("LIGHT_NORMAL_STEEP", LIGHT_NORMAL_STEEP),
         ("FRAME_VALUES", FRAME_VALUES),
     ];
 }

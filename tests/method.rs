@@ -300,13 +300,15 @@ fn plan_skips_what_the_scene_does_not_need() {
     assert!(stray.is_empty(), "a frame without effects under the water allocates {stray:?}");
     drop(renderer);
     // Under the water with both effects: their targets and the light maps, sized as planned
-    // (RGBA32F positions), and still no surface passes.
+    // (RGBA32F positions, a layer per pair of maps), and still no surface passes.
     let before = memory::allocations(&ctx.device);
     let renderer = SceneRenderer::new(&ctx.device, &scene, out).unwrap();
     let made = memory::FrameMemory::since(&ctx.device, &before, 0);
     let bytes = |name: &str| made.allocations.iter().find(|a| a.name == name).map(|a| a.bytes);
     let light_map = renderer.frame.extents.light_map as u64;
-    assert!(bytes("light position map").is_some_and(|b| b >= 16 * light_map * light_map), "{made:?}");
+    let pairs = renderer.frame.shadow.as_ref().expect("photon passes without light maps").pairs() as u64;
+    assert_eq!(pairs, 2, "a sun above the water bends the maps: two pairs");
+    assert!(bytes("light position maps").is_some_and(|b| b >= 16 * light_map * light_map * pairs), "{made:?}");
     assert!(bytes("caustics").is_some() && bytes("godrays").is_some(), "{made:?}");
     assert!(!made.allocations.iter().any(|a| a.name.starts_with("refraction") || a.name.starts_with("reflection")));
     assert_eq!(made.total_bytes, made.allocations.iter().map(|a| a.bytes).sum::<u64>());

@@ -15,7 +15,8 @@
 #include "scene_depth.glsl"
 #include "pixel_noise.glsl"
 
-layout(set = 0, binding = BINDING_LIGHT_POSITION) uniform sampler2D light_position;
+// The light's receiver positions; layer 0 holds the maps along flat water (passes::shadow).
+layout(set = 0, binding = BINDING_LIGHT_POSITION) uniform sampler2DArray light_positions;
 
 // Steps along the under-water part of each pixel's ray (passes::godrays::MARCH_STEPS).
 layout(constant_id = 0) const int STEPS = 32;
@@ -37,7 +38,7 @@ bool reaches(vec3 p) {
     vec4 c = frame.light_view_proj * vec4(m, 1.0);
     vec2 uv = c.xy / c.w * 0.5 + 0.5;
     if (any(lessThan(uv, vec2(0.0))) || any(greaterThanEqual(uv, vec2(1.0)))) return true;
-    vec4 receiver = texelFetch(light_position, ivec2(uv * frame.light_map_size), 0);
+    vec4 receiver = texelFetch(light_positions, ivec3(uv * frame.light_map_size, 0), 0);
     if (receiver.w < 0.5) return true;
     return dot(light_map_point(receiver.xyz) - m, frame.light_axis) > -SHADOW_BIAS;
 }

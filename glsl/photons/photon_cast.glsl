@@ -8,12 +8,12 @@
 #include "frame_textures.glsl"
 
 #include "noise_texture.glsl"
-layout(set = 0, binding = BINDING_LIGHT_POSITION) uniform sampler2D light_position;
-layout(set = 0, binding = BINDING_LIGHT_NORMAL) uniform sampler2D light_normal;
-// The second maps, bent more steeply (frame::uniforms::steep_light_axis): searched by the
-// photons whose iteration does not converge in the first.
-layout(set = 0, binding = BINDING_LIGHT_POSITION_STEEP) uniform sampler2D light_position_steep;
-layout(set = 0, binding = BINDING_LIGHT_NORMAL_STEEP) uniform sampler2D light_normal_steep;
+// The light's receiver maps, a layer per pair (passes::shadow): layer 0 bent along flat
+// water's refracted light, layer 1 (where the maps bend) more steeply
+// (frame::uniforms::steep_light_axis), searched by the photons whose iteration does not
+// converge in the first. One array, so that a search reads either pair in one fetch.
+layout(set = 0, binding = BINDING_LIGHT_POSITION) uniform sampler2DArray light_positions;
+layout(set = 0, binding = BINDING_LIGHT_NORMAL) uniform sampler2DArray light_normals;
 
 struct Photon {
     vec3 surface;     // p_s: where it enters the water
@@ -110,11 +110,11 @@ bool light_texel(vec3 p, bool steep, out ivec2 texel) {
 
 // The receiver (xyz, w > 0 where one) and its normal at a texel of either pair of maps.
 vec4 map_receiver(ivec2 texel, bool steep) {
-    return steep ? texelFetch(light_position_steep, texel, 0) : texelFetch(light_position, texel, 0);
+    return texelFetch(light_positions, ivec3(texel, steep ? 1 : 0), 0);
 }
 
 vec3 map_normal(ivec2 texel, bool steep) {
-    return (steep ? texelFetch(light_normal_steep, texel, 0) : texelFetch(light_normal, texel, 0)).xyz;
+    return texelFetch(light_normals, ivec3(texel, steep ? 1 : 0), 0).xyz;
 }
 
 // Converged when the estimate lies on the receiver the map stores at its texel: within a
@@ -305,7 +305,7 @@ bool cast_photon(vec2 uv, vec2 photons_per_axis, out Photon ph) {
     // receiver along the ray is nearer than the surface. This is the water mask, derived.
     ivec2 texel;
     if (light_texel(ps, false, texel)) {
-        vec4 first = texelFetch(light_position, texel, 0);
+        vec4 first = map_receiver(texel, false);
         if (first.w > 0.0 && dot(first.xyz - o, d) < t - 1e-3) { photon_fate = PHOTON_BLOCKED_ABOVE; return false; }
     }
     vec3 n = water_normal_from_grad(hg.yz);

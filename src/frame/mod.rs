@@ -535,21 +535,12 @@ impl Frame {
                     Resource::Uniform { buffer: uniforms[frame].raw, range: crate::shader_abi::FRAME_VALUES_BYTES }
                 }
                 bindings::NOISE => tex(&noise, &nearest),
+                // Both maps are arrays with a layer per pair (passes::shadow::FIRST_MAPS, STEEP_MAPS).
                 bindings::LIGHT_POSITION => {
                     tex(&shadow.as_ref().expect("plan: photon passes need the shadow pass").position, &nearest)
                 }
                 bindings::LIGHT_NORMAL => {
                     tex(&shadow.as_ref().expect("plan: photon passes need the shadow pass").normal, &nearest)
-                }
-                // Where the maps do not bend there are no second maps, and the shaders never
-                // search them (FrameUniforms::steep_light_axis is zero): the first stand in.
-                bindings::LIGHT_POSITION_STEEP => {
-                    let shadow = shadow.as_ref().expect("plan: photon passes need the shadow pass");
-                    tex(shadow.steep.as_ref().map_or(&shadow.position, |s| &s.position), &nearest)
-                }
-                bindings::LIGHT_NORMAL_STEEP => {
-                    let shadow = shadow.as_ref().expect("plan: photon passes need the shadow pass");
-                    tex(shadow.steep.as_ref().map_or(&shadow.normal, |s| &s.normal), &nearest)
                 }
                 // Photon passes test against the view the camera sees them in (photon_set_index).
                 bindings::SCENE_DEPTH if through_surface && refraction.is_some() => {

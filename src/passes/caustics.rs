@@ -29,8 +29,6 @@ pub const BINDINGS: &[(u32, Binding)] = &[
     (b::NOISE, Binding::Texture),
     (b::LIGHT_POSITION, Binding::Texture),
     (b::LIGHT_NORMAL, Binding::Texture),
-    (b::LIGHT_POSITION_STEEP, Binding::Texture),
-    (b::LIGHT_NORMAL_STEEP, Binding::Texture),
     (b::SCENE_DEPTH, Binding::Texture),
 ];
 

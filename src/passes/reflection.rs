@@ -55,12 +55,14 @@ impl ReflectionPass {
             "reflection",
             &[Attachment {
                 image: &color,
+                layer: 0,
                 load: Load::Clear([0.0; 4]),
                 store: Store::Keep,
                 final_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
             }],
             Some(&Attachment {
                 image: &depth,
+                layer: 0,
                 load: Load::Clear([1.0; 4]),
                 store: Store::Discard, // its own depth test only
                 final_layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,

@@ -103,10 +103,28 @@ impl CameraTargets {
             device,
             pass,
             &[
-                Attachment { image: &color, load: Load::Clear([0.0; 4]), store: Store::Keep, final_layout: read },
-                Attachment { image: &albedo, load: Load::Clear([0.0; 4]), store: Store::Keep, final_layout: read },
+                Attachment {
+                    image: &color,
+                    layer: 0,
+                    load: Load::Clear([0.0; 4]),
+                    store: Store::Keep,
+                    final_layout: read,
+                },
+                Attachment {
+                    image: &albedo,
+                    layer: 0,
+                    load: Load::Clear([0.0; 4]),
+                    store: Store::Keep,
+                    final_layout: read,
+                },
             ],
-            Some(&Attachment { image: &depth, load: Load::Clear([1.0; 4]), store: Store::Keep, final_layout: read }),
+            Some(&Attachment {
+                image: &depth,
+                layer: 0,
+                load: Load::Clear([1.0; 4]),
+                store: Store::Keep,
+                final_layout: read,
+            }),
         )?;
         Ok(Self { color, albedo, depth, render_pass })
     }

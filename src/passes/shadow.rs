@@ -8,6 +8,11 @@
 //! cuts the triangles that cross the water level so that each piece projects exactly. There
 //! it also renders a second pair of maps bent more steeply (`steep`), which the photons
 //! search where the first cannot place them (`frame::uniforms::steep_light_axis`).
+//!
+//! Each map is one image array with a layer per pair (first, steeper), which the photon
+//! passes sample as one `sampler2DArray`: the pair a search reads is the fetch's layer index,
+//! where two images would need `steep ? fetch(a) : fetch(b)`, and llvmpipe fetches both sides
+//! of that select (docs/performance.md, "One fetch per map read").
 
 use crate::error::Result;
 use crate::passes::mesh::{GpuMeshes, MESH_ATTRIBUTES};
@@ -25,72 +30,26 @@ use std::sync::Arc;
 /// What the shadow pass's shaders read (glsl/shared/frame_textures.glsl numbering).
 pub const BINDINGS: &[(u32, Binding)] = &[(b::UNIFORMS, Binding::Storage)];
 
+/// The pairs of maps: the first, along flat water's refracted light, and where the maps bend
+/// the second, steeper one; each is a layer of the map arrays, in this order.
+pub const FIRST_MAPS: u32 = 0;
+pub const STEEP_MAPS: u32 = 1;
+
 pub struct ShadowPass {
     pipeline: Pipeline,
-    render_pass: RenderPass,
+    /// One render pass per pair of maps (layer), in layer order. Before the images: their
+    /// framebuffers refer to the images' layer views.
+    render_passes: Vec<RenderPass>,
+    /// Receiver positions (w = 1 where a receiver is stored), one layer per pair of maps.
     pub position: Image,
+    /// Receiver normals, one layer per pair of maps.
     pub normal: Image,
-    /// Only attached (depth testing); kept alive here for the framebuffer.
+    /// Only attached (each render pass's own depth test, cleared when it begins, so the pairs
+    /// share it); kept alive here for the framebuffers.
     _depth: Image,
-    /// The second maps, bent along `FrameUniforms::steep_light_axis`; None where the maps do
-    /// not bend (a point light), whose photons have nothing else to search.
-    pub steep: Option<SteepMaps>,
     /// This pass's descriptor sets (one per frame in flight), written by the frame.
     pub sets: DescriptorSets,
     device: Arc<Device>,
-}
-
-/// The second pair of light maps and their render pass (the first's formats, so the pass's
-/// one pipeline draws into either).
-pub struct SteepMaps {
-    render_pass: RenderPass,
-    pub position: Image,
-    pub normal: Image,
-    _depth: Image,
-}
-
-/// A pair of receiver maps (positions, normals) and the depth they are tested with, named
-/// `what` ("light", "steep light").
-fn map_images(device: &Arc<Device>, what: &str, size: u32) -> Result<[Image; 3]> {
-    let extent = vk::Extent2D { width: size, height: size };
-    let sampled =
-        vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC;
-    let position =
-        Image::new(device, &format!("{what} position map"), extent, vk::Format::R32G32B32A32_SFLOAT, sampled)?;
-    let normal = Image::new(device, &format!("{what} normal map"), extent, normal_format(device), sampled)?;
-    let depth = Image::new(
-        device,
-        &format!("{what} depth"),
-        extent,
-        vk::Format::D32_SFLOAT,
-        vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
-    )?;
-    Ok([position, normal, depth])
-}
-
-/// The render pass that clears and fills one pair of maps, leaving them for the photon passes.
-fn map_render_pass(
-    device: &Arc<Device>,
-    name: &str,
-    position: &Image,
-    normal: &Image,
-    depth: &Image,
-) -> Result<RenderPass> {
-    let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
-    RenderPass::new(
-        device,
-        name,
-        &[
-            Attachment { image: position, load: Load::Clear([0.0; 4]), store: Store::Keep, final_layout: read },
-            Attachment { image: normal, load: Load::Clear([0.0; 4]), store: Store::Keep, final_layout: read },
-        ],
-        Some(&Attachment {
-            image: depth,
-            load: Load::Clear([1.0; 4]),
-            store: Store::Discard, // its own depth test only; the maps hold the positions
-            final_layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
-        }),
-    )
 }
 
 /// The light normal map's format: 8-bit signed normalised (4 MiB at 1024²), which the
@@ -114,11 +73,43 @@ pub fn normal_format(device: &Device) -> vk::Format {
 }
 
 impl ShadowPass {
-    /// `steep`: also render the second maps (where the light's maps bend).
+    /// `steep`: also render the second maps (where the light's maps bend; a point light's do
+    /// not, and its photons have nothing else to search).
     pub fn new(device: &Arc<Device>, size: u32, steep: bool) -> Result<Self> {
         let sets = DescriptorSets::new(device, "shadow", BINDINGS, FRAMES_IN_FLIGHT as u32)?;
-        let [position, normal, depth] = map_images(device, "light", size)?;
-        let render_pass = map_render_pass(device, "shadow", &position, &normal, &depth)?;
+        let pairs = if steep { 2 } else { 1 };
+        let extent = vk::Extent2D { width: size, height: size };
+        let sampled =
+            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC;
+        let position =
+            Image::array(device, "light position maps", extent, vk::Format::R32G32B32A32_SFLOAT, sampled, pairs)?;
+        let normal = Image::array(device, "light normal maps", extent, normal_format(device), sampled, pairs)?;
+        let depth_usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
+        let depth = Image::new(device, "light map depth", extent, vk::Format::D32_SFLOAT, depth_usage)?;
+        let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+        let render_passes = (0..pairs)
+            .map(|layer| {
+                let map = |image| Attachment {
+                    image,
+                    layer,
+                    load: Load::Clear([0.0; 4]),
+                    store: Store::Keep,
+                    final_layout: read,
+                };
+                RenderPass::new(
+                    device,
+                    if layer == STEEP_MAPS { "shadow (steep maps)" } else { "shadow" },
+                    &[map(&position), map(&normal)],
+                    Some(&Attachment {
+                        image: &depth,
+                        layer: 0,
+                        load: Load::Clear([1.0; 4]),
+                        store: Store::Discard, // its own depth test only; the maps hold the positions
+                        final_layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+                    }),
+                )
+            })
+            .collect::<Result<Vec<_>>>()?;
         let pipeline = shaders::graphics_pipeline(
             device,
             &GraphicsPipelineDesc {
@@ -131,28 +122,24 @@ impl ShadowPass {
                 geometry: Some("shadow.geom"),
                 // Which maps (shadow.geom's `steep`).
                 push_constant_bytes: 4,
-                ..GraphicsPipelineDesc::new("shadow", "shadow.vert", "shadow.frag", render_pass.raw)
+                ..GraphicsPipelineDesc::new("shadow", "shadow.vert", "shadow.frag", render_passes[0].raw)
             },
         )?;
-        let steep = if steep {
-            let [position, normal, depth] = map_images(device, "steep light", size)?;
-            let render_pass = map_render_pass(device, "shadow (steep maps)", &position, &normal, &depth)?;
-            Some(SteepMaps { render_pass, position, normal, _depth: depth })
-        } else {
-            None
-        };
-        Ok(Self { pipeline, render_pass, position, normal, _depth: depth, steep, sets, device: device.clone() })
+        Ok(Self { pipeline, render_passes, position, normal, _depth: depth, sets, device: device.clone() })
+    }
+
+    /// How many pairs of maps the pass renders (the map arrays' layers): 1 or 2.
+    pub fn pairs(&self) -> u32 {
+        self.position.layers
     }
 
     pub fn record(&self, cmd: vk::CommandBuffer, frame_index: usize, meshes: &GpuMeshes) {
         let dev = &self.device;
         let set = self.sets.sets[frame_index];
-        let passes =
-            std::iter::once((&self.render_pass, 0u32)).chain(self.steep.as_ref().map(|s| (&s.render_pass, 1u32)));
-        for (render_pass, steep) in passes {
+        for (layer, render_pass) in (0u32..).zip(&self.render_passes) {
             render_pass.begin(cmd);
             self.pipeline.bind(cmd, Some(set));
-            self.pipeline.push(cmd, &steep.to_ne_bytes());
+            self.pipeline.push(cmd, &layer.to_ne_bytes());
             meshes.draw(dev, cmd);
             render_pass.end(cmd);
         }

@@ -1,4 +1,6 @@
-//! 2-D images (render targets) with one view, backed by gpu-allocator, that free themselves.
+//! 2-D images (render targets) and 2-D image arrays, backed by gpu-allocator, that free
+//! themselves. A plain image has one view; an array has one view of all its layers (what a
+//! shader samples) and one per layer (what a render pass draws into).
 
 use super::device::Device;
 use crate::error::{Error, Result, VkResultExt};
@@ -11,7 +13,12 @@ use std::sync::Arc;
 pub struct Image {
     pub raw: vk::Image,
     /// Null for images that are only copied to or from (no attachment or sampling usage).
+    /// An array's view is a 2-D array view of all its layers (`sampler2DArray`).
     pub view: vk::ImageView,
+    /// An attachable array's 2-D view of each layer (`attachment_view`); empty otherwise.
+    layer_views: Vec<vk::ImageView>,
+    /// 1 for a plain image.
+    pub layers: u32,
     pub format: vk::Format,
     pub extent: vk::Extent2D,
     pub aspect: vk::ImageAspectFlags,
@@ -29,13 +36,43 @@ impl Image {
         format: vk::Format,
         usage: vk::ImageUsageFlags,
     ) -> Result<Self> {
+        Self::create(device, name, extent, format, usage, None)
+    }
+
+    /// An array of `layers` images of one size and format, which a shader samples as one
+    /// `sampler2DArray` (a layer index picks the image in the fetch itself, where two images
+    /// would need a branch between two fetches) and render passes draw into layer by layer.
+    pub fn array(
+        device: &Arc<Device>,
+        name: &str,
+        extent: vk::Extent2D,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        layers: u32,
+    ) -> Result<Self> {
+        Self::create(device, name, extent, format, usage, Some(layers))
+    }
+
+    /// `array_layers`: None for a plain image (a 2-D view), Some for an array (array views).
+    fn create(
+        device: &Arc<Device>,
+        name: &str,
+        extent: vk::Extent2D,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        array_layers: Option<u32>,
+    ) -> Result<Self> {
+        let layers = array_layers.unwrap_or(1);
+        if layers == 0 {
+            return Err(Error::InvalidParameter { name: "image layers", message: format!("{name}: an array of none") });
+        }
         let aspect = aspect_of(format);
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
             .format(format)
             .extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 })
             .mip_levels(1)
-            .array_layers(1)
+            .array_layers(layers)
             .samples(vk::SampleCountFlags::TYPE_1)
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(usage)
@@ -59,6 +96,8 @@ impl Image {
         let mut image = Self {
             raw,
             view: vk::ImageView::null(),
+            layer_views: Vec::new(),
+            layers,
             format,
             extent,
             aspect,
@@ -76,19 +115,52 @@ impl Image {
             | vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
             | vk::ImageUsageFlags::INPUT_ATTACHMENT;
         if usage.intersects(viewable) {
-            let view_info = vk::ImageViewCreateInfo::default()
-                .image(raw)
-                .view_type(vk::ImageViewType::TYPE_2D)
-                .format(format)
-                .subresource_range(image.full_range());
-            image.view = unsafe { device.raw.create_image_view(&view_info, None) }.call("vkCreateImageView")?;
-            device.set_name(image.view, &format!("{name} view"));
+            let view_type =
+                if array_layers.is_some() { vk::ImageViewType::TYPE_2D_ARRAY } else { vk::ImageViewType::TYPE_2D };
+            image.view = image.create_view(view_type, image.full_range(), &format!("{name} view"))?;
+        }
+        let attachable = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
+        if array_layers.is_some() && usage.intersects(attachable) {
+            for layer in 0..layers {
+                let range = image.full_range().base_array_layer(layer).layer_count(1);
+                let view =
+                    image.create_view(vk::ImageViewType::TYPE_2D, range, &format!("{name} layer {layer} view"))?;
+                image.layer_views.push(view);
+            }
         }
         Ok(image)
     }
 
+    fn create_view(
+        &self,
+        view_type: vk::ImageViewType,
+        range: vk::ImageSubresourceRange,
+        name: &str,
+    ) -> Result<vk::ImageView> {
+        let info = vk::ImageViewCreateInfo::default()
+            .image(self.raw)
+            .view_type(view_type)
+            .format(self.format)
+            .subresource_range(range);
+        let view = unsafe { self.device.raw.create_image_view(&info, None) }.call("vkCreateImageView")?;
+        self.device.set_name(view, name);
+        Ok(view)
+    }
+
+    /// The view a render pass attaches to draw into `layer` (0 for a plain image).
+    pub fn attachment_view(&self, layer: u32) -> vk::ImageView {
+        match self.layer_views.get(layer as usize) {
+            Some(view) => *view,
+            None => {
+                assert_eq!(layer, 0, "{}: no layer {layer} to attach", self.name);
+                self.view
+            }
+        }
+    }
+
+    /// Every layer of the image's one mip level.
     pub fn full_range(&self) -> vk::ImageSubresourceRange {
-        vk::ImageSubresourceRange::default().aspect_mask(self.aspect).level_count(1).layer_count(1)
+        vk::ImageSubresourceRange::default().aspect_mask(self.aspect).level_count(1).layer_count(self.layers)
     }
 
     pub fn texel_count(&self) -> usize {
@@ -128,6 +200,9 @@ impl Drop for Image {
     fn drop(&mut self) {
         // SAFETY: the GPU no longer uses the image (see Buffer::drop); taken exactly once.
         unsafe {
+            for view in self.layer_views.drain(..) {
+                self.device.raw.destroy_image_view(view, None);
+            }
             self.device.raw.destroy_image_view(self.view, None);
             self.device.raw.destroy_image(self.raw, None);
             let allocation = ManuallyDrop::take(&mut self.allocation);

@@ -17,11 +17,24 @@ pub struct Readback {
     buffer: Buffer,
     extent: vk::Extent2D,
     format: vk::Format,
+    /// The layer copied (0 unless the image is an array).
+    layer: u32,
     device: Arc<Device>,
 }
 
 impl Readback {
     pub fn new(device: &Arc<Device>, image: &Image) -> Result<Self> {
+        Self::of_layer(device, image, 0)
+    }
+
+    /// A readback of one layer of an image array.
+    pub fn of_layer(device: &Arc<Device>, image: &Image, layer: u32) -> Result<Self> {
+        if layer >= image.layers {
+            return Err(Error::InvalidParameter {
+                name: "readback layer",
+                message: format!("{} has {} layers, not a layer {layer}", image.name, image.layers),
+            });
+        }
         let texel = texel_size(image.format).ok_or_else(|| Error::InvalidParameter {
             name: "readback format",
             message: format!("{:?} cannot be read back", image.format),
@@ -29,12 +42,16 @@ impl Readback {
         let size = (image.texel_count() * texel) as vk::DeviceSize;
         let buffer = Buffer::new(
             device,
-            &format!("{} read-back", image.name),
+            &if image.layers > 1 {
+                format!("{} layer {layer} read-back", image.name)
+            } else {
+                format!("{} read-back", image.name)
+            },
             size,
             vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
-        Ok(Self { buffer, extent: image.extent, format: image.format, device: device.clone() })
+        Ok(Self { buffer, extent: image.extent, format: image.format, layer, device: device.clone() })
     }
 
     /// Records the copy of an image currently in `layout`: transitions it to
@@ -63,7 +80,7 @@ impl Readback {
                 .old_layout(from)
                 .new_layout(to)
                 .image(image.raw)
-                .subresource_range(image.full_range())]
+                .subresource_range(image.full_range().base_array_layer(self.layer).layer_count(1))]
         };
         let dev = &self.device.raw;
         if layout != src {
@@ -94,7 +111,12 @@ impl Readback {
     /// dependency covers transfers) and makes it visible to the host.
     pub fn record(&self, cmd: vk::CommandBuffer, image: &Image) {
         let region = vk::BufferImageCopy::default()
-            .image_subresource(vk::ImageSubresourceLayers::default().aspect_mask(image.aspect).layer_count(1))
+            .image_subresource(
+                vk::ImageSubresourceLayers::default()
+                    .aspect_mask(image.aspect)
+                    .base_array_layer(self.layer)
+                    .layer_count(1),
+            )
             .image_extent(vk::Extent3D { width: image.extent.width, height: image.extent.height, depth: 1 });
         let to_host = [vk::MemoryBarrier2::default()
             .src_stage_mask(vk::PipelineStageFlags2::COPY)

@@ -30,6 +30,8 @@ pub enum Store {
 
 pub struct Attachment<'a> {
     pub image: &'a Image,
+    /// The layer drawn into (0 unless `image` is an array).
+    pub layer: u32,
     pub load: Load,
     pub store: Store,
     /// Layout the pass leaves the image in, chosen for its next use.
@@ -129,7 +131,7 @@ impl RenderPass {
         device.set_name(raw, name);
         let extent = colors.first().or(depth).map(|a| a.image.extent).unwrap_or_default();
         let mut pass = Self { raw, framebuffer: vk::Framebuffer::null(), extent, clear_values, device: device.clone() };
-        let views: Vec<vk::ImageView> = colors.iter().chain(depth).map(|a| a.image.view).collect();
+        let views: Vec<vk::ImageView> = colors.iter().chain(depth).map(|a| a.image.attachment_view(a.layer)).collect();
         let fb_info = vk::FramebufferCreateInfo::default()
             .render_pass(raw)
             .attachments(&views)
@@ -230,6 +232,7 @@ impl ColorTarget {
             .transpose()?;
         let depth_attachment = depth.as_ref().map(|image| Attachment {
             image,
+            layer: 0,
             load: Load::Clear([1.0; 4]),
             store: Store::Discard,
             final_layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
@@ -237,7 +240,7 @@ impl ColorTarget {
         let render_pass = RenderPass::new(
             device,
             name,
-            &[Attachment { image: &image, load: Load::Clear([0.0; 4]), store: Store::Keep, final_layout }],
+            &[Attachment { image: &image, layer: 0, load: Load::Clear([0.0; 4]), store: Store::Keep, final_layout }],
             depth_attachment.as_ref(),
         )?;
         Ok(Self { render_pass, image, depth })
