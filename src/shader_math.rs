@@ -234,6 +234,16 @@ pub fn water_slope_bound(w: &WaterParams) -> f32 {
         + w.noise_amplitude.abs() / w.noise_scale * WATER_NOISE_SLOPE
 }
 
+/// Whether Newton's search alone finds the water crossing of every ray along unit direction
+/// `d` that starts above the waves: the ray falls more than twice as steeply as the surface
+/// can rise along it (`water_intersect`'s choice per ray), with 1 % to spare, so that the
+/// shader's own test of each ray in its own rounding agrees. A directional light's photon
+/// rays all share its direction: where this holds for it, the photon passes compile only
+/// Newton's search (GLSL `WATER_NEWTON_ONLY`, photon_cast.glsl), the one each ray would take.
+pub fn newton_finds_every_crossing(w: &WaterParams, d: Vec3) -> bool {
+    d.y < 0.0 && water_slope_bound(w) * Vec2::new(d.x, d.z).length() <= -0.5 * d.y * 0.99
+}
+
 /// GLSL `ITERATION_RESIDUAL` (photon_cast.glsl): the image-space iteration stops at this
 /// residual per metre of distance.
 pub const ITERATION_RESIDUAL: f32 = 1e-5;
@@ -1047,6 +1057,44 @@ mod tests {
         assert_eq!(t.to_bits(), marched.to_bits());
         let p = o + t * d;
         assert!((p.y - w.level - water_height_grad(&w, &noise, p.xz(), time).x).abs() <= 0.01 * bound + 1e-4);
+    }
+
+    #[test]
+    fn newton_serves_every_ray_only_where_each_ray_would_take_it() {
+        // The photon passes compile only Newton's search where this says so; each ray must
+        // then be one that water_intersect sends to Newton itself, or the compiled-in choice
+        // would change the crossing. The built-in scenes' suns qualify; a sun low enough for
+        // the waves to rise along its rays as fast as they fall does not, nor does one that
+        // falls just short of the margin.
+        let w = water(WaterModel::AxisCosineNoise);
+        let slope = water_slope_bound(&w);
+        for name in ["tank", "port", "storage"] {
+            let scene = crate::scene::load(name).unwrap();
+            let d = scene.light.direction.normalize();
+            assert!(newton_finds_every_crossing(&scene.water, d), "{name}");
+            assert!(crate::frame::newton_crossing(&scene), "{name}");
+        }
+        let mut newton = 0;
+        for k in 0..200 {
+            // Horizontal over vertical from 0 to 1 / slope (the per-ray test's limit at 0.5 / slope).
+            let across = k as f32 / 200.0 / slope;
+            let d = Vec3::new(across * 0.6, -1.0, across * 0.8).normalize();
+            let per_ray = slope * Vec2::new(d.x, d.z).length() <= -0.5 * d.y;
+            if newton_finds_every_crossing(&w, d) {
+                newton += 1;
+                assert!(per_ray, "ray {k}: compiled Newton where the ray is marched");
+                assert!(slope * Vec2::new(d.x, d.z).length() <= -0.5 * d.y * 0.99, "ray {k}: no margin");
+            } else {
+                assert!(!(slope * Vec2::new(d.x, d.z).length() <= -0.5 * d.y * 0.99), "ray {k}");
+            }
+        }
+        // The directions up to the per-ray limit (half of them), less the margin's 1 %.
+        assert!((95..=100).contains(&newton), "{newton} of 200 directions take Newton");
+        assert!(!newton_finds_every_crossing(&w, Vec3::new(1.0, -0.01, 0.0).normalize()), "a grazing sun");
+        assert!(!newton_finds_every_crossing(&w, Vec3::new(0.0, 1.0, 0.0)), "light from below");
+        let mut point = crate::scene::load("tank").unwrap();
+        point.light.kind = crate::scene::LightKind::Point;
+        assert!(!crate::frame::newton_crossing(&point), "a point light's rays do not share a direction");
     }
 
     #[test]

@@ -40,6 +40,12 @@ struct Photon {
 // out where a scene spreads its photons evenly").
 layout(constant_id = 1) const bool PHOTON_WARP = true;
 
+// Whether every photon ray falls steeply enough through the waves for Newton's search of the
+// water crossing alone (water_intersect's newton_only; passes/caustics.rs and godrays.rs
+// specialize it from shader_math::newton_finds_every_crossing): a directional light's rays
+// all share its direction, so the scene decides it once.
+layout(constant_id = 2) const bool WATER_NEWTON_ONLY = false;
+
 // The photon grid's warp (frame::photon_density; Rust twin shader_math::photon_density_warp):
 // grid position g ∈ [0, 1]² to the photon window's uv, through the inverse cumulative
 // densities in the frame's uniforms: the window's v from the rows' knots, the window's u from
@@ -297,7 +303,7 @@ bool cast_photon(vec2 uv, vec2 photons_per_axis, out Photon ph) {
 
     WaterParams w = frame_water();
     vec3 hg; // the surface's height and gradient where the ray crosses it (its normal below)
-    float t = water_intersect(w, noise_tex, o, d, frame_water_phase(), hg);
+    float t = water_intersect(w, noise_tex, o, d, frame_water_phase(), WATER_NEWTON_ONLY, hg);
     if (!(t > 0.0)) { photon_fate = PHOTON_MISSES_WATER; return false; }
     vec3 ps = o + t * d;
     if (!water_covers(w, ps.xz)) { photon_fate = PHOTON_OUTSIDE_WATER; return false; }

@@ -175,7 +175,52 @@ const int WATER_NEWTON = 4;
 // of the search"), while a loop stops once no lane needs another pass. The Rust twin,
 // shader_math::water_intersect, makes the same evaluations as two separate searches.
 // `height_grad`: the surface's height and gradient at the crossing, for its normal.
-float water_intersect(WaterParams w, sampler2D noise, vec3 o, vec3 d, vec3 phase, out vec3 height_grad) {
+//
+// `newton_only`: every ray the caller casts falls steeply enough for Newton's method (a
+// directional light's photons, shader_math::newton_finds_every_crossing), so only Newton's
+// search is compiled where the caller passes it as a specialization constant: the shared
+// loop's other stages, run masked, cost llvmpipe 6-9 ms of paper-800's caustic pass
+// (docs/performance.md, "Newton's search alone where every photon takes it"). A ray that
+// starts inside the waves' slab but above the surface meets it once all the same; one that
+// starts under it, which the light's frame never casts, is a miss there.
+
+// One Newton step on the ray's height f above the surface at t (hg: the surface's height
+// and gradient there): the bracket [ta, tb] narrowed by f's sign, and t moved to Newton's
+// estimate, or to the bracket's middle where that would leave it.
+void water_newton_step(float f, vec3 hg, vec3 d, inout float ta, inout float tb, inout float t) {
+    if (f > 0.0) ta = t; else tb = t;
+    float next = t - f / (d.y - dot(hg.yz, d.xz));
+    t = next > ta && next < tb ? next : 0.5 * (ta + tb);
+}
+
+// The search's answer: its evaluated point nearest the surface, a miss where that is not
+// within 1 % of the waves' height of it.
+float water_crossing_found(float best_t, float best_f, vec3 best_hg, float bound, out vec3 height_grad) {
+    height_grad = vec3(0.0);
+    if (!(best_f <= 0.01 * bound + 1e-4)) return -1.0;
+    height_grad = best_hg;
+    return best_t;
+}
+
+// Newton's search alone, from the mean plane's crossing, inside the slab [t_top, t_bottom].
+float water_newton_crossing(WaterParams w, sampler2D noise, vec3 o, vec3 d, vec3 phase, float t_top, float t_bottom,
+                            float bound, out vec3 height_grad) {
+    float ta = t_top, tb = t_bottom, best_t = -1.0, best_f = 1e30;
+    vec3 best_hg = vec3(0.0);
+    float t = clamp((w.level - o.y) / d.y, t_top, t_bottom);
+    for (int refinement = 0; refinement <= WATER_REFINE_STEPS; ++refinement) {
+        vec3 p = o + t * d;
+        vec3 hg = water_height_grad(w, noise, p.xz, phase);
+        float f = p.y - w.level - hg.x;
+        if (abs(f) < best_f) { best_t = t; best_f = abs(f); best_hg = hg; }
+        if (best_f <= WATER_REFINE_RESIDUAL * bound || refinement == WATER_REFINE_STEPS) break;
+        water_newton_step(f, hg, d, ta, tb, t);
+    }
+    return water_crossing_found(best_t, best_f, best_hg, bound, height_grad);
+}
+
+float water_intersect(WaterParams w, sampler2D noise, vec3 o, vec3 d, vec3 phase, bool newton_only,
+                      out vec3 height_grad) {
     height_grad = vec3(0.0);
     if (d.y >= -1e-6) return -1.0;
     float bound = abs(w.amplitude) + abs(w.noise_amplitude);
@@ -183,6 +228,7 @@ float water_intersect(WaterParams w, sampler2D noise, vec3 o, vec3 d, vec3 phase
     float t_bottom = (w.level - bound - o.y) / d.y;
     if (t_bottom < t_top) return -1.0;
     if (bound == 0.0) return t_bottom; // flat: the mean plane
+    if (newton_only) return water_newton_crossing(w, noise, o, d, phase, t_top, t_bottom, bound, height_grad);
     float feature = min(w.amplitude > 0.0 ? w.wavelength : 1e30,
                         w.noise_amplitude > 0.0 ? w.noise_scale * WATER_NOISE_FEATURE : 1e30);
     float horizontal = (t_bottom - t_top) * length(d.xz);
@@ -200,9 +246,7 @@ float water_intersect(WaterParams w, sampler2D noise, vec3 o, vec3 d, vec3 phase
         if (stage == WATER_NEWTON) {
             if (abs(f) < best_f) { best_t = t; best_f = abs(f); best_hg = hg; }
             if (best_f <= WATER_REFINE_RESIDUAL * bound || refinement == WATER_REFINE_STEPS) break;
-            if (f > 0.0) ta = t; else tb = t;
-            float next = t - f / (d.y - dot(hg.yz, d.xz));
-            t = next > ta && next < tb ? next : 0.5 * (ta + tb);
+            water_newton_step(f, hg, d, ta, tb, t);
             ++refinement;
             continue;
         }
@@ -246,10 +290,7 @@ float water_intersect(WaterParams w, sampler2D noise, vec3 o, vec3 d, vec3 phase
         }
         t = ta + (tb - ta) * fa / (fa - fb);
     }
-    // Not within 1 % of the waves' height of the surface: a miss.
-    if (!(best_f <= 0.01 * bound + 1e-4)) return -1.0;
-    height_grad = best_hg;
-    return best_t;
+    return water_crossing_found(best_t, best_f, best_hg, bound, height_grad);
 }
 
 // Fresnel transmittance for unpolarised light from a medium of index 1 into index n,

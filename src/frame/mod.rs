@@ -398,6 +398,15 @@ pub struct Frame {
     _linear: Sampler,
 }
 
+/// Whether the photon passes compile only Newton's search of the water crossing
+/// (WATER_NEWTON_ONLY, photon_cast.glsl): a directional light's photon rays all share its
+/// direction, so whether that search serves every one of them is the scene's to say, once
+/// (`shader_math::newton_finds_every_crossing`).
+pub fn newton_crossing(scene: &Scene) -> bool {
+    scene.light.kind == LightKind::Directional
+        && crate::shader_math::newton_finds_every_crossing(&scene.water, scene.light.direction.normalize())
+}
+
 impl Frame {
     /// Creates the passes the scene needs for an output of `output` texels, leaving the
     /// output in `output_layout` (TRANSFER_SRC_OPTIMAL headless, PRESENT_SRC_KHR for a window).
@@ -447,10 +456,11 @@ impl Frame {
         } else {
             (None, None)
         };
+        let newton_crossing = newton_crossing(scene);
         let caustics = if plan.runs(PassId::Caustics) {
             let e = &scene.effects;
             let ext = vk::Extent2D { width: extents.caustic[0], height: extents.caustic[1] };
-            Some(CausticsPass::new(device, ext, e, options.record_photons, options.photon_path)?)
+            Some(CausticsPass::new(device, ext, e, options.record_photons, options.photon_path, newton_crossing)?)
         } else {
             None
         };
@@ -464,7 +474,7 @@ impl Frame {
                     message: "\"marched\" needs a directional light: it takes the light through flat water along one refracted direction".into(),
                 });
             }
-            Some(GodraysPass::new(device, ext, e, options.photon_path, options.record_photons)?)
+            Some(GodraysPass::new(device, ext, e, options.photon_path, options.record_photons, newton_crossing)?)
         } else {
             None
         };

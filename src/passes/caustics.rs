@@ -81,12 +81,15 @@ fn mesh_invocations(grid: u32) -> u32 {
 }
 
 impl CausticsPass {
+    /// `newton_crossing`: every photon ray of the scene finds its water crossing by Newton's
+    /// method alone (`shader_math::newton_finds_every_crossing`; WATER_NEWTON_ONLY).
     pub fn new(
         device: &Arc<Device>,
         extent: vk::Extent2D,
         effects: &Effects,
         record_photons: bool,
         path: PhotonPath,
+        newton_crossing: bool,
     ) -> Result<Self> {
         let (grid, subdivision, estimator) =
             (effects.caustic_grid, effects.caustic_subdivision, effects.caustic_estimator);
@@ -131,9 +134,10 @@ impl CausticsPass {
         let target =
             ColorTarget::with_optional_depth(device, "caustics", extent, ACCUMULATION_FORMAT, read, draws_points)?;
         // PHOTON_WARP (photon_cast.glsl): the cast evaluates the view's warp only where the
-        // scene spreads its photons for the view.
+        // scene spreads its photons for the view; WATER_NEWTON_ONLY: it compiles only the
+        // water search its rays take.
         let warps = effects.caustic_photon_density == PhotonSpread::View;
-        let specialization = [(0, subdivision), (1, warps as u32)];
+        let specialization = [(0, subdivision), (1, warps as u32), (2, newton_crossing as u32)];
         let set_layouts = [sets.layout];
         let compute = |name: &str, shader: &str| {
             shaders::compute_pipeline(

@@ -66,13 +66,15 @@ pub struct GodraysPass {
 
 impl GodraysPass {
     /// The scene's godray settings (`effects`: method, grid, subdivision, line width) into a
-    /// target of `extent`, through `path`; `record_photons` records every beam.
+    /// target of `extent`, through `path`; `record_photons` records every beam;
+    /// `newton_crossing` as for `CausticsPass::new`.
     pub fn new(
         device: &Arc<Device>,
         extent: vk::Extent2D,
         effects: &Effects,
         path: PhotonPath,
         record_photons: bool,
+        newton_crossing: bool,
     ) -> Result<Self> {
         let (grid, subdivision, method) = (effects.godray_grid, effects.godray_subdivision, effects.godray_method);
         let path = if path == PhotonPath::SplatFloor { PhotonPath::GeometryShader } else { path };
@@ -128,9 +130,9 @@ impl GodraysPass {
         let target =
             ColorTarget::with_optional_depth(device, "godrays", extent, ACCUMULATION_FORMAT, read, rasterised_beams)?;
         // PHOTON_WARP (photon_cast.glsl): the cast evaluates the view's warp only where the
-        // scene spreads its beams for the view.
+        // scene spreads its beams for the view; WATER_NEWTON_ONLY as for the caustics.
         let warps = effects.godray_photon_density == PhotonSpread::View;
-        let specialization = [(0, subdivision), (1, warps as u32)];
+        let specialization = [(0, subdivision), (1, warps as u32), (2, newton_crossing as u32)];
         let set_layouts = [sets.layout];
         // The photon beams' draws, lines or ribbons, adding into the target.
         let beam_pipeline = |vertex, geometry, topology| GraphicsPipelineDesc {

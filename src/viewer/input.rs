@@ -96,9 +96,9 @@ impl Live {
             KeyCode::Digit5 => self.next_photon_density(false)?,
             KeyCode::Digit6 => self.next_photon_density(true)?,
             KeyCode::Digit7 => self.next_godray_method()?,
-            KeyCode::KeyM => self.next_water(),
-            KeyCode::Equal | KeyCode::NumpadAdd => self.scale_amplitude(1.25),
-            KeyCode::Minus | KeyCode::NumpadSubtract => self.scale_amplitude(0.8),
+            KeyCode::KeyM => self.next_water()?,
+            KeyCode::Equal | KeyCode::NumpadAdd => self.scale_amplitude(1.25)?,
+            KeyCode::Minus | KeyCode::NumpadSubtract => self.scale_amplitude(0.8)?,
             KeyCode::KeyP => self.view.paused = !self.view.paused,
             KeyCode::KeyN => self.view.step_once = true,
             KeyCode::KeyH => self.preset(Preset::High)?,
@@ -204,20 +204,35 @@ impl Live {
     }
 
     /// The other water model. The frame reads the water from the scene every frame, so
-    /// nothing is rebuilt (as for the amplitude).
-    pub(super) fn next_water(&mut self) {
+    /// nothing is rebuilt (as for the amplitude), unless the change decides anew how the
+    /// photons find the water (`water_changed`).
+    pub(super) fn next_water(&mut self) -> Result<()> {
+        let newton = crate::frame::newton_crossing(&self.view.scene);
         let w = &mut self.view.scene.water;
         w.model = match w.model {
             WaterModel::CircularCosine => WaterModel::AxisCosineNoise,
             WaterModel::AxisCosineNoise => WaterModel::CircularCosine,
         };
         println!("water model: {:?}", w.model);
+        self.water_changed(newton)
     }
 
-    pub(super) fn scale_amplitude(&mut self, factor: f32) {
+    pub(super) fn scale_amplitude(&mut self, factor: f32) -> Result<()> {
+        let newton = crate::frame::newton_crossing(&self.view.scene);
         let w = &mut self.view.scene.water;
         w.amplitude = (w.amplitude * factor).clamp(0.0, w.wavelength);
         println!("wave amplitude: {:.4} m", w.amplitude);
+        self.water_changed(newton)
+    }
+
+    /// Rebuilds the frame where steeper or gentler waves change whether Newton's search alone
+    /// finds every photon's water crossing (`newton_before`: it did before the change): the
+    /// photon passes compile that choice in (`frame::newton_crossing`).
+    fn water_changed(&mut self, newton_before: bool) -> Result<()> {
+        if crate::frame::newton_crossing(&self.view.scene) == newton_before {
+            return Ok(());
+        }
+        self.gpu.rebuild_current(&self.view.scene)
     }
 }
 
