@@ -313,6 +313,18 @@ fn plan_skips_what_the_scene_does_not_need() {
     assert!(!made.allocations.iter().any(|a| a.name.starts_with("refraction") || a.name.starts_with("reflection")));
     assert_eq!(made.total_bytes, made.allocations.iter().map(|a| a.bytes).sum::<u64>());
     drop(renderer);
+    // A point light's maps do not bend: one pair, a single layer, half the bytes.
+    let mut lamp = scene.clone();
+    lamp.light.kind = underlight::scene::LightKind::Point;
+    lamp.light.position = glam::Vec3::new(0.1, 1.0, 0.1);
+    let before = memory::allocations(&ctx.device);
+    let renderer = SceneRenderer::new(&ctx.device, &lamp, out).unwrap();
+    let made = memory::FrameMemory::since(&ctx.device, &before, 0);
+    let bytes = |name: &str| made.allocations.iter().find(|a| a.name == name).map(|a| a.bytes);
+    assert_eq!(renderer.frame.shadow.as_ref().expect("a lamp's light maps").pairs(), 1);
+    let positions = bytes("light position maps").expect("the lamp's position maps");
+    assert!(positions >= 16 * light_map * light_map && positions < 32 * light_map * light_map, "{made:?}");
+    drop(renderer);
     assert!(memory::allocations(&ctx.device).is_empty(), "the renderer's memory outlives it");
     assert_clean_shutdown(ctx);
 }
