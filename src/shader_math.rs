@@ -1083,9 +1083,6 @@ mod tests {
             if newton_finds_every_crossing(&w, d) {
                 newton += 1;
                 assert!(per_ray, "ray {k}: compiled Newton where the ray is marched");
-                assert!(slope * Vec2::new(d.x, d.z).length() <= -0.5 * d.y * 0.99, "ray {k}: no margin");
-            } else {
-                assert!(!(slope * Vec2::new(d.x, d.z).length() <= -0.5 * d.y * 0.99), "ray {k}");
             }
         }
         // The directions up to the per-ray limit (half of them), less the margin's 1 %.

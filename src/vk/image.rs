@@ -122,7 +122,7 @@ impl Image {
         let attachable = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
         if array_layers.is_some() && usage.intersects(attachable) {
             for layer in 0..layers {
-                let range = image.full_range().base_array_layer(layer).layer_count(1);
+                let range = image.layer_range(layer);
                 let view =
                     image.create_view(vk::ImageViewType::TYPE_2D, range, &format!("{name} layer {layer} view"))?;
                 image.layer_views.push(view);
@@ -161,6 +161,11 @@ impl Image {
     /// Every layer of the image's one mip level.
     pub fn full_range(&self) -> vk::ImageSubresourceRange {
         vk::ImageSubresourceRange::default().aspect_mask(self.aspect).level_count(1).layer_count(self.layers)
+    }
+
+    /// One layer of the image's one mip level (0 for a plain image).
+    pub fn layer_range(&self, layer: u32) -> vk::ImageSubresourceRange {
+        self.full_range().base_array_layer(layer).layer_count(1)
     }
 
     pub fn texel_count(&self) -> usize {

@@ -80,7 +80,7 @@ impl Readback {
                 .old_layout(from)
                 .new_layout(to)
                 .image(image.raw)
-                .subresource_range(image.full_range().base_array_layer(self.layer).layer_count(1))]
+                .subresource_range(image.layer_range(self.layer))]
         };
         let dev = &self.device.raw;
         if layout != src {
