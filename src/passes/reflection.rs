@@ -53,20 +53,13 @@ impl ReflectionPass {
         let render_pass = RenderPass::new(
             device,
             "reflection",
-            &[Attachment {
-                image: &color,
-                layer: 0,
-                load: Load::Clear([0.0; 4]),
-                store: Store::Keep,
-                final_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-            }],
-            Some(&Attachment {
-                image: &depth,
-                layer: 0,
-                load: Load::Clear([1.0; 4]),
-                store: Store::Discard, // its own depth test only
-                final_layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
-            }),
+            &[Attachment::new(&color, Load::Clear([0.0; 4]), Store::Keep, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)],
+            Some(&Attachment::new(
+                &depth,
+                Load::Clear([1.0; 4]),
+                Store::Discard, // its own depth test only
+                vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+            )),
         )?;
         let pipeline = mesh_pipeline(device, "reflection meshes", View::Reflection, 1, sets.layout, render_pass.raw)?;
         Ok(Self { pipeline, render_pass, color, _depth: depth, sets, device: device.clone() })

@@ -103,28 +103,10 @@ impl CameraTargets {
             device,
             pass,
             &[
-                Attachment {
-                    image: &color,
-                    layer: 0,
-                    load: Load::Clear([0.0; 4]),
-                    store: Store::Keep,
-                    final_layout: read,
-                },
-                Attachment {
-                    image: &albedo,
-                    layer: 0,
-                    load: Load::Clear([0.0; 4]),
-                    store: Store::Keep,
-                    final_layout: read,
-                },
+                Attachment::new(&color, Load::Clear([0.0; 4]), Store::Keep, read),
+                Attachment::new(&albedo, Load::Clear([0.0; 4]), Store::Keep, read),
             ],
-            Some(&Attachment {
-                image: &depth,
-                layer: 0,
-                load: Load::Clear([1.0; 4]),
-                store: Store::Keep,
-                final_layout: read,
-            }),
+            Some(&Attachment::new(&depth, Load::Clear([1.0; 4]), Store::Keep, read)),
         )?;
         Ok(Self { color, albedo, depth, render_pass })
     }

@@ -100,13 +100,12 @@ impl ShadowPass {
                     device,
                     if layer == STEEP_MAPS { "shadow (steep maps)" } else { "shadow" },
                     &[map(&position), map(&normal)],
-                    Some(&Attachment {
-                        image: &depth,
-                        layer: 0,
-                        load: Load::Clear([1.0; 4]),
-                        store: Store::Discard, // its own depth test only; the maps hold the positions
-                        final_layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
-                    }),
+                    Some(&Attachment::new(
+                        &depth,
+                        Load::Clear([1.0; 4]),
+                        Store::Discard, // its own depth test only; the maps hold the positions
+                        vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+                    )),
                 )
             })
             .collect::<Result<Vec<_>>>()?;

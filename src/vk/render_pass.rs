@@ -38,6 +38,13 @@ pub struct Attachment<'a> {
     pub final_layout: vk::ImageLayout,
 }
 
+impl<'a> Attachment<'a> {
+    /// A plain image's one layer (an array's layer: the struct with `layer` set).
+    pub fn new(image: &'a Image, load: Load, store: Store, final_layout: vk::ImageLayout) -> Self {
+        Self { image, layer: 0, load, store, final_layout }
+    }
+}
+
 pub struct RenderPass {
     pub raw: vk::RenderPass,
     pub framebuffer: vk::Framebuffer,
@@ -230,17 +237,18 @@ impl ColorTarget {
                 Image::new(device, &format!("{name} depth"), extent, vk::Format::D32_SFLOAT, usage)
             })
             .transpose()?;
-        let depth_attachment = depth.as_ref().map(|image| Attachment {
-            image,
-            layer: 0,
-            load: Load::Clear([1.0; 4]),
-            store: Store::Discard,
-            final_layout: vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+        let depth_attachment = depth.as_ref().map(|image| {
+            Attachment::new(
+                image,
+                Load::Clear([1.0; 4]),
+                Store::Discard,
+                vk::ImageLayout::DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+            )
         });
         let render_pass = RenderPass::new(
             device,
             name,
-            &[Attachment { image: &image, layer: 0, load: Load::Clear([0.0; 4]), store: Store::Keep, final_layout }],
+            &[Attachment::new(&image, Load::Clear([0.0; 4]), Store::Keep, final_layout)],
             depth_attachment.as_ref(),
         )?;
         Ok(Self { render_pass, image, depth })
