@@ -184,9 +184,27 @@ const int PHOTON_ABOVE_WATER = 8;
 const int PHOTON_NOT_FINITE = 9;
 int photon_fate = PHOTON_LANDED; // set by every cast_photon
 
+// The light's ray to a photon's surface point: from `origin` along `direction`, meeting the
+// water `distance` from its origin (cast_photon).
+struct LightRay {
+    vec3 origin;
+    vec3 direction;
+    float distance;
+};
+
 // Where the refracted ray from ps along rt meets the receivers the first light maps hold
 // (`steep`: the second maps): PHOTON_LANDED with the hit and its distance, PHOTON_LEAVES_MAP,
 // or PHOTON_NOT_CONVERGED with the last estimate.
+//
+// In the first maps the receiver stored under ps, which the first guess reads, is also the
+// light's first receiver along its ray to the water: nearer the light than the water, it
+// blocks the photon before the water (a deck, a wall above it: the water mask, derived), and
+// the search returns PHOTON_BLOCKED_ABOVE. Tested here rather than before the refraction, so
+// that the map is read once for both: a read of its own cost about 2 ms of paper-800's caustic
+// pass on lavapipe (docs/performance.md, "The water mask read with the first guess").
+// `surface_fate`: where the photon was lost at the surface (PHOTON_BACK_OF_WAVE,
+// PHOTON_TOTAL_REFLECTION; else PHOTON_LANDED), returned after the blocked test, which it
+// yields to: a photon the deck shades never meets the wave.
 //
 // Shah's iteration: guess d, project p_s + d·r_t into the light's map, and take the stored
 // receiver's distance F(d) from p_s as the next guess. The first guess assumes the
@@ -201,7 +219,8 @@ int photon_fate = PHOTON_LANDED; // set by every cast_photon
 // Where the map holds nothing straight along the light ray (at a low sun that ray leaves
 // the receivers long before the refracted one would), the guess is the scene's lowest
 // point: exact for a flat floor, and the secant steps correct it for anything above.
-int intersect_receivers(vec3 ps, vec3 rt, bool steep, out vec3 hit, out float dist, out vec3 normal) {
+int intersect_receivers(vec3 ps, vec3 rt, bool steep, LightRay light, int surface_fate, out vec3 hit,
+                        out float dist, out vec3 normal) {
     normal = vec3(0.0);
     float bottom = ps.y - frame.scene_lowest_y;
     dist = bottom > 1e-3 ? bottom / max(-rt.y, 1e-3) : 1.0;
@@ -209,25 +228,37 @@ int intersect_receivers(vec3 ps, vec3 rt, bool steep, out vec3 hit, out float di
     ivec2 texel;
     if (light_texel(ps, steep, texel)) {
         vec4 below = map_receiver(texel, steep);
+        if (!steep && below.w > 0.0 && dot(below.xyz - light.origin, light.direction) < light.distance - 1e-3)
+            return PHOTON_BLOCKED_ABOVE;
         float depth = ps.y - below.y;
         if (below.w > 0.0) dist = depth > 1e-3 ? depth / max(-rt.y, 1e-3) : max(length(below.xyz - ps), 1e-3);
     }
+    if (surface_fate != PHOTON_LANDED) return surface_fate;
     float prev_dist = 0.0, prev_g = 0.0;
     bool have_prev = false;
+    ivec2 prev_texel = ivec2(0);
+    vec4 r = vec4(0.0), prev_r = vec4(0.0);
     int iterations = int(frame.iterations);
-    for (int i = 0; i < iterations; ++i) {
+    // Each pass reads the map at the estimate; the last (i == iterations) only reads, so that
+    // the receiver under the final estimate is always one the loop has read: a photon that
+    // converges keeps its last read instead of projecting and reading its texel again.
+    for (int i = 0; i <= iterations; ++i) {
         // A step that leaves the map or its receivers ends the iteration at the last estimate
         // that had one (the convergence test below judges it): at a grazing sun a texel
         // stretches over a third of a metre of floor, and a step from an exact first guess
-        // towards the texel's centre can leave the receivers. With no estimate yet, the
-        // photon hits nothing the map knows of and is dropped.
+        // towards the texel's centre can leave the receivers. With no estimate yet, or off
+        // the map after the last step, the photon hits nothing the map knows of and is
+        // dropped.
         bool inside = light_texel(ps + dist * rt, steep, texel);
-        vec4 r = inside ? map_receiver(texel, steep) : vec4(0.0);
+        r = inside ? map_receiver(texel, steep) : vec4(0.0);
         if (r.w <= 0.0) {
-            if (!have_prev) return PHOTON_LEAVES_MAP;
+            if (!have_prev || i == iterations) return PHOTON_LEAVES_MAP;
             dist = prev_dist;
+            texel = prev_texel;
+            r = prev_r;
             break;
         }
+        if (i == iterations) break;
         float g = length(r.xyz - ps) - dist;
         // At the fixed point already (within 10 µm per metre): a further step would move the
         // estimate by g and fetch the same texel again. Stopping saves the remaining fetches
@@ -237,13 +268,10 @@ int intersect_receivers(vec3 ps, vec3 rt, bool steep, out vec3 hit, out float di
         if (have_prev && abs(g - prev_g) > 1e-6 * max(dist, 1.0)) {
             next = dist - g * (dist - prev_dist) / (g - prev_g);
         }
-        prev_dist = dist; prev_g = g; have_prev = true;
+        prev_dist = dist; prev_g = g; prev_texel = texel; prev_r = r; have_prev = true;
         dist = max(next, 1e-3);
     }
     hit = ps + dist * rt;
-    if (!light_texel(hit, steep, texel)) return PHOTON_LEAVES_MAP;
-    vec4 r = map_receiver(texel, steep);
-    if (r.w <= 0.0) return PHOTON_LEAVES_MAP;
     vec3 rn = map_normal(texel, steep);
     normal = rn;
     vec3 to_hit = light_map_direction(hit, steep);
@@ -307,23 +335,15 @@ bool cast_photon(vec2 uv, vec2 photons_per_axis, out Photon ph) {
     if (!(t > 0.0)) { photon_fate = PHOTON_MISSES_WATER; return false; }
     vec3 ps = o + t * d;
     if (!water_covers(w, ps.xz)) { photon_fate = PHOTON_OUTSIDE_WATER; return false; }
-    // Blocked before reaching the water (a deck, a wall above it): the light's first
-    // receiver along the ray is nearer than the surface. This is the water mask, derived.
-    ivec2 texel;
-    if (light_texel(ps, false, texel)) {
-        vec4 first = map_receiver(texel, false);
-        if (first.w > 0.0 && dot(first.xyz - o, d) < t - 1e-3) { photon_fate = PHOTON_BLOCKED_ABOVE; return false; }
-    }
     vec3 n = water_normal_from_grad(hg.yz);
     float cos_i = dot(-d, n);
-    if (cos_i <= 0.0) { photon_fate = PHOTON_BACK_OF_WAVE; return false; } // the back of a steep wave
     vec3 rt = refract(d, n, 1.0 / w.ior);
-    if (dot(rt, rt) == 0.0) { photon_fate = PHOTON_TOTAL_REFLECTION; return false; }
-    rt = normalize(rt);
-    // Known from here on, also for a photon dropped below: the footprint beams measure their
-    // cross-sections from their neighbours' refracted rays (godrays_footprint.geom).
-    ph.surface = ps;
-    ph.direction = rt;
+    // Lost at the surface: the back of a steep wave, or totally reflected. Reported by the
+    // first maps' search once it has read whether the photon is blocked before the water
+    // (intersect_receivers), which it runs with a harmless direction.
+    int surface_fate = cos_i <= 0.0 ? PHOTON_BACK_OF_WAVE : dot(rt, rt) == 0.0 ? PHOTON_TOTAL_REFLECTION : PHOTON_LANDED;
+    rt = surface_fate == PHOTON_LANDED ? normalize(rt) : d;
+    LightRay light = LightRay(o, d, t);
 
     // The first maps, then, for a photon they cannot place, the second (steeper) ones. A
     // loop over the two pairs rather than two calls, so that the search is compiled once: on
@@ -338,7 +358,7 @@ bool cast_photon(vec2 uv, vec2 photons_per_axis, out Photon ph) {
         bool steep = pair == 1;
         vec3 pair_hit, pair_normal;
         float pair_dist;
-        int pair_fate = intersect_receivers(ps, rt, steep, pair_hit, pair_dist, pair_normal);
+        int pair_fate = intersect_receivers(ps, rt, steep, light, surface_fate, pair_hit, pair_dist, pair_normal);
         if (!steep || pair_fate == PHOTON_LANDED) {
             fate = pair_fate;
             hit = pair_hit;
@@ -346,8 +366,17 @@ bool cast_photon(vec2 uv, vec2 photons_per_axis, out Photon ph) {
             dist = pair_dist;
             ph.steep_map = steep;
         }
-        if (fate == PHOTON_LANDED) break;
+        // Placed, or lost before the search (blocked, or at the surface): no second pair.
+        if (fate != PHOTON_LEAVES_MAP && fate != PHOTON_NOT_CONVERGED) break;
     }
+    if (fate == PHOTON_BLOCKED_ABOVE || fate == PHOTON_BACK_OF_WAVE || fate == PHOTON_TOTAL_REFLECTION) {
+        photon_fate = fate;
+        return false;
+    }
+    // Known from here on, also for a photon dropped below: the footprint beams measure their
+    // cross-sections from their neighbours' refracted rays (godrays_footprint.geom).
+    ph.surface = ps;
+    ph.direction = rt;
     if (fate == PHOTON_LEAVES_MAP) { photon_fate = fate; return false; }
     if (fate == PHOTON_NOT_CONVERGED) {
         photon_fate = PHOTON_NOT_CONVERGED;
