@@ -369,33 +369,33 @@ bool cast_photon(vec2 uv, vec2 photons_per_axis, out Photon ph) {
         // Placed, or lost before the search (blocked, or at the surface): no second pair.
         if (fate != PHOTON_LEAVES_MAP && fate != PHOTON_NOT_CONVERGED) break;
     }
-    if (fate == PHOTON_BLOCKED_ABOVE || fate == PHOTON_BACK_OF_WAVE || fate == PHOTON_TOTAL_REFLECTION) {
-        photon_fate = fate;
-        return false;
-    }
-    // Known from here on, also for a photon dropped below: the footprint beams measure their
-    // cross-sections from their neighbours' refracted rays (godrays_footprint.geom).
-    ph.surface = ps;
-    ph.direction = rt;
-    if (fate == PHOTON_LEAVES_MAP) { photon_fate = fate; return false; }
-    if (fate == PHOTON_NOT_CONVERGED) {
-        photon_fate = PHOTON_NOT_CONVERGED;
-#ifndef PHOTON_BEAMS
-        return false;
+    // The outcome, without a return per case: on lavapipe each early return masks the rest of
+    // the shader lane by lane. A photon lost before the search (blocked, or at the surface)
+    // keeps no surface point; the others keep it and their refracted direction, also where
+    // dropped below: the footprint beams measure their cross-sections from their
+    // neighbours' refracted rays (godrays_footprint.geom). A dropped photon keeps the flux it
+    // carried towards the water (the flux budget's records).
+    bool lost_before_search = fate == PHOTON_BLOCKED_ABOVE || fate == PHOTON_BACK_OF_WAVE || fate == PHOTON_TOTAL_REFLECTION;
+    ph.surface = lost_before_search ? vec3(0.0) : ps;
+    ph.direction = lost_before_search ? vec3(0.0) : rt;
+#ifdef PHOTON_BEAMS
+    bool placed = fate == PHOTON_LANDED || fate == PHOTON_NOT_CONVERGED; // a beam is drawn to its last estimate
+#else
+    bool placed = fate == PHOTON_LANDED;
 #endif
-    }
-    if (hit.y > w.level + abs(w.amplitude) + abs(w.noise_amplitude)) { photon_fate = PHOTON_ABOVE_WATER; return false; }
-
-    ph.surface = ps;
-    ph.direction = rt;
-    ph.hit = hit;
+    bool above_water = hit.y > w.level + abs(w.amplitude) + abs(w.noise_amplitude);
+    bool drawn = placed && !above_water;
     float transmitted = fresnel_transmittance(cos_i, w.ior);
-    ph.flux = flux * transmitted;
-    ph.flux_density *= transmitted;
-    ph.travelled = dist;
+    ph.hit = drawn ? hit : vec3(0.0);
+    ph.flux = drawn ? flux * transmitted : flux;
+    ph.flux_density *= drawn ? transmitted : 1.0;
+    ph.travelled = drawn ? dist : 0.0;
     bool finite = !(any(isnan(hit)) || any(isinf(hit)) || isnan(ph.flux) || isinf(ph.flux));
-    if (photon_fate == PHOTON_LANDED && !finite) photon_fate = PHOTON_NOT_FINITE;
-    return finite;
+    photon_fate = !placed ? fate
+                : above_water ? PHOTON_ABOVE_WATER
+                : fate == PHOTON_LANDED && !finite ? PHOTON_NOT_FINITE
+                : fate;
+    return drawn && finite;
 }
 
 // The photon of a square grid of `photons_per_axis`² photons.
