@@ -200,8 +200,9 @@ struct LightRay {
 // light's first receiver along its ray to the water: nearer the light than the water, it
 // blocks the photon before the water (a deck, a wall above it: the water mask, derived), and
 // the search returns PHOTON_BLOCKED_ABOVE. Tested here rather than before the refraction, so
-// that the map is read once for both: a read of its own cost about 2 ms of paper-800's caustic
-// pass on lavapipe (docs/performance.md, "The water mask read with the first guess").
+// that the map is read once for both: a read of its own cost about 1.5 ms of paper-800's
+// caustic pass on lavapipe (docs/performance.md, "The light map read once where the cast read
+// it twice").
 // `surface_fate`: where the photon was lost at the surface (PHOTON_BACK_OF_WAVE,
 // PHOTON_TOTAL_REFLECTION; else PHOTON_LANDED), returned after the blocked test, which it
 // yields to: a photon the deck shades never meets the wave.
