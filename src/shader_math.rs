@@ -797,7 +797,11 @@ impl PhotonCaster<'_> {
     }
 
     /// GLSL `intersect_receivers`: Shah's iteration against the first maps (`steep`: the
-    /// second) from the surface point `ps` along the refracted `rt`.
+    /// second) from the surface point `ps` along the refracted `rt`. The same results in a
+    /// plainer order: the shader tests the blocker above the water with its first guess's read
+    /// and keeps its last read for the final estimate, to save lavapipe a projection and a
+    /// fetch each (docs/performance.md); here `cast` tests the blocker and the final estimate
+    /// is read again.
     fn intersect(&self, ps: Vec3, rt: Vec3, steep: bool) -> Intersection {
         let u = self.uniforms;
         let bottom = ps.y - u.scene_lowest_y;

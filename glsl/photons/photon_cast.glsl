@@ -19,7 +19,7 @@ struct Photon {
     vec3 surface;     // p_s: where it enters the water
     vec3 direction;   // r_t: refracted direction (unit)
     vec3 hit;         // p_i: where it meets the scene
-    float flux;       // W carried after the surface (Fresnel transmittance applied)
+    float flux;       // W carried after the surface (Fresnel transmittance applied); dropped: before it
     float travelled;  // |p_i − p_s|, m
     float cell_scale; // its grid cell's area over the even grid's (photon_density_warp; 1 unwarped)
     bool steep_map;   // its hit was found in the second, steeper maps (its receiver's normal is there)
@@ -194,7 +194,8 @@ struct LightRay {
 
 // Where the refracted ray from ps along rt meets the receivers the first light maps hold
 // (`steep`: the second maps): PHOTON_LANDED with the hit and its distance, PHOTON_LEAVES_MAP,
-// or PHOTON_NOT_CONVERGED with the last estimate.
+// or PHOTON_NOT_CONVERGED with the last estimate; PHOTON_BLOCKED_ABOVE, or `surface_fate`
+// where that is not PHOTON_LANDED, before any search (below).
 //
 // In the first maps the receiver stored under ps, which the first guess reads, is also the
 // light's first receiver along its ray to the water: nearer the light than the water, it
@@ -248,8 +249,8 @@ int intersect_receivers(vec3 ps, vec3 rt, bool steep, LightRay light, int surfac
         // that had one (the convergence test below judges it): at a grazing sun a texel
         // stretches over a third of a metre of floor, and a step from an exact first guess
         // towards the texel's centre can leave the receivers. With no estimate yet, or off
-        // the map after the last step, the photon hits nothing the map knows of and is
-        // dropped.
+        // the map on the final, read-only pass, the photon hits nothing the map knows of and
+        // is dropped.
         bool inside = light_texel(ps + dist * rt, steep, texel);
         r = inside ? map_receiver(texel, steep) : vec4(0.0);
         if (r.w <= 0.0) {
@@ -289,8 +290,10 @@ int intersect_receivers(vec3 ps, vec3 rt, bool steep, LightRay light, int surfac
 // Casts the photon at light-space position uv ∈ [0,1]² of a grid with photons_per_axis.x ×
 // photons_per_axis.y photons (square but for the caustic triangles' grid, whose aspect
 // follows the view: caustics_triangles.geom). Returns false for photons that never enter the
-// water, are blocked before it, leave the light's map, hit nothing, or whose iteration does
-// not converge: those are dropped, never splatted.
+// water, are blocked before it, meet the back of a wave or are totally reflected, leave the
+// light's map, hit nothing, land above the water, are not finite, or whose iteration does not
+// converge (but for the godray beams, PHOTON_BEAMS, which are drawn to their last estimate):
+// those are dropped, never splatted. `photon_fate` says which.
 bool cast_photon(vec2 uv, vec2 photons_per_axis, out Photon ph) {
     ph.surface = vec3(0.0); ph.direction = vec3(0.0); ph.hit = vec3(0.0); ph.flux = 0.0; ph.travelled = 0.0;
     ph.cell_scale = 1.0;
@@ -341,7 +344,8 @@ bool cast_photon(vec2 uv, vec2 photons_per_axis, out Photon ph) {
     vec3 rt = refract(d, n, 1.0 / w.ior);
     // Lost at the surface: the back of a steep wave, or totally reflected. Reported by the
     // first maps' search once it has read whether the photon is blocked before the water
-    // (intersect_receivers), which it runs with a harmless direction.
+    // (intersect_receivers). Such a photon has no refracted ray: the search gets the light's
+    // direction instead, which only its first guess uses.
     int surface_fate = cos_i <= 0.0 ? PHOTON_BACK_OF_WAVE : dot(rt, rt) == 0.0 ? PHOTON_TOTAL_REFLECTION : PHOTON_LANDED;
     rt = surface_fate == PHOTON_LANDED ? normalize(rt) : d;
     LightRay light = LightRay(o, d, t);
