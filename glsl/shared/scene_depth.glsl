@@ -7,8 +7,14 @@
 
 layout(set = 0, binding = BINDING_SCENE_DEPTH) uniform sampler2D scene_depth;
 
-// View depth (m along the camera axis) of what the scene shows at `uv`.
+// View depth (m along the camera axis) of what the scene shows at `uv`: the texel under it,
+// clamped to the buffer, as the nearest-filtering sampler bound there picks it. Fetched by
+// texel rather than sampled: on llvmpipe a sampled read computes its coordinates, wrap and
+// level per lane, and the caustic triangles' fragment shader, which makes six of these reads,
+// spent a tenth of its pass on them (docs/performance.md, "The depth buffer read by texel").
 float scene_view_depth(vec2 uv) {
-    return linear_view_depth(textureLod(scene_depth, uv, 0.0).r);
+    ivec2 size = textureSize(scene_depth, 0);
+    ivec2 texel = clamp(ivec2(floor(uv * vec2(size))), ivec2(0), size - 1);
+    return linear_view_depth(texelFetch(scene_depth, texel, 0).r);
 }
 #endif
