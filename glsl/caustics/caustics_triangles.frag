@@ -14,21 +14,20 @@ void main() {
     // gl_FragCoord.w is 1 / clip w, the reciprocal of the distance along the camera axis.
     vec2 gradient = vec2(dFdx(gl_FragCoord.w), dFdy(gl_FragCoord.w));
     vec2 size = frame.caustic_target_size;
-    bool strip = is_strip_code(g_irradiance.a);
-    if (g_irradiance.a == 0.0) {
-        if (off_scene(gl_FragCoord.xy, size, gl_FragCoord.w, gradient, CAUSTIC_DEPTH_TOLERANCE)) discard;
-    } else if (strip) {
-        // A strip carries its middle line's depth across its width, so its pixels off that
-        // line are held to the surface as a square's are, up to their distance from it.
-        float reach = abs(strip_across(g_irradiance.a));
-        if (square_off_scene(gl_FragCoord.xy, size, 1.0 / gl_FragCoord.w, reach, CAUSTIC_DEPTH_TOLERANCE)) discard;
-    } else {
-        // How far a square's pixel centre can lie from its centre: half its diagonal.
-        float side = g_irradiance.a > 0.5 ? 2.0 : -g_irradiance.a;
-        float reach = 0.5 * sqrt(2.0) * side;
-        if (square_off_scene(gl_FragCoord.xy, size, 1.0 / gl_FragCoord.w, reach, CAUSTIC_DEPTH_TOLERANCE)) discard;
-    }
-    float weight = strip ? strip_weight(g_irradiance.a)
-                 : g_irradiance.a > 0.5 ? sliver_footprint_weight(gl_FragCoord.xy, g_irradiance.a) : 1.0;
+    float code = g_irradiance.a;
+    bool strip = is_strip_code(code);
+    // A square's and a strip's pixels off the point where their one depth holds (a square's
+    // centre, a strip's middle line) are held to the surface up to their distance from it:
+    // half a square's diagonal, a strip's distance across.
+    float square_side = code > 0.5 ? 2.0 : -code;
+    float reach = strip ? abs(strip_across(code)) : 0.5 * sqrt(2.0) * square_side;
+    // One test per kind of primitive, each written once: llvmpipe runs every side of a
+    // branch for every fragment, masked, and the squares' test (five reads of the scene's
+    // depth) written out for the strips and the squares apart cost a sixth of the pass
+    // (docs/performance.md, "The depth buffer read by texel").
+    bool off = code == 0.0 ? off_scene(gl_FragCoord.xy, size, gl_FragCoord.w, gradient, CAUSTIC_DEPTH_TOLERANCE)
+                           : square_off_scene(gl_FragCoord.xy, size, 1.0 / gl_FragCoord.w, reach, CAUSTIC_DEPTH_TOLERANCE);
+    if (off) discard;
+    float weight = strip ? strip_weight(code) : code > 0.5 ? sliver_footprint_weight(gl_FragCoord.xy, code) : 1.0;
     out_irradiance = vec4(g_irradiance.rgb * weight, 1.0);
 }
