@@ -591,8 +591,18 @@ void main() {
         }
     }
     search_borders(side, photons_per_axis);
+    // The photons that draw a cell of handed-back flux, listed first and drawn in one loop
+    // over the list, as search_borders lists its edges: llvmpipe runs a loop's body, masked,
+    // until no lane needs another pass, so a loop over every photon that skipped the others
+    // ran the drawing below once per photon, where most invocations draw no cell at all
+    // (docs/performance.md, "The depth buffer read by texel").
+    int cell_photons[MAX_PHOTONS];
+    int cell_count = 0;
     for (int k = 0; k < side * side; ++k) {
-        if (!draws_cell(k)) continue;
+        if (draws_cell(k)) cell_photons[cell_count++] = k;
+    }
+    for (int listed = 0; listed < cell_count; ++listed) {
+        int k = cell_photons[listed];
         int i = k % side, j = k / side;
         vec3 du, dv;
         int minus_u = i > 0 ? k - 1 : -1, plus_u = i + 1 < side ? k + 1 : -1;
