@@ -304,32 +304,45 @@ void emit_triangle(int a, int b, int c) {
     if (!one_receiver(a, b, c)) return;
     float area = triangle_area(a, b, c);
     float pixels = triangle_pixels(a, b, c);
-    if (pixels < SLIVER_PIXELS || !(area > 1e-12)) {
-        CausticSplat s;
+    bool sliver = pixels < SLIVER_PIXELS || !(area > 1e-12);
+    // A long, thin triangle is laid along its length as a strip carrying its flux
+    // (emit_thin_sliver), a sliver's with the irradiance of one pixel's receiver area, a thin
+    // triangle's with its own over its pixels. One call for both: llvmpipe runs every side of
+    // a branch, masked, for every triangle (docs/performance.md, "The depth buffer read by
+    // texel").
+    bool strip = false;
+    vec3 strip_per_pixel = vec3(0.0);
+    CausticSplat s;
+    vec3 flat_e = vec3(0.0);
+    if (sliver) {
         vec3 share = triangle_flux(a, b, c);
         // On its corners' one receiver: a's normal (one_receiver).
-        if (caustic_square_on((hit[a] + hit[b] + hit[c]) / 3.0, normal[a], share, 1.0, s)) {
-            // The receiver area one pixel covers, exactly: the triangle's own world area
-            // over its pixels. (caustic_square_on's estimate bounds cos θ_view by 0.2, which
-            // overstated the port's distant, grazing seabed: flux +5.6 % against +2.4 %.) A
-            // triangle too small for the ratio to be more than rounding keeps the estimate.
-            if (area > 1e-12 && pixels > 1e-4) s.irradiance.rgb = share * pixels / (area * frame.surface_irradiance);
-            // A long, thin sliver (a fold's edge) is laid along its length as a strip
-            // carrying its flux (emit_thin_sliver). Anything smaller goes to the pixels its
-            // footprint overlaps
-            // (sliver_footprint_code, shader_math.glsl). Drawn at its centroid, a fold
-            // through sparse photons was a dotted line (the port's near seabed).
-            if (emit_thin_sliver(a, b, c, s.irradiance.rgb)) return;
-            s.size = 2.0;
-            emit_square(s, sliver_footprint_code(target_pixel(s.clip), sqrt(pixels)));
-        }
+        if (!caustic_square_on((hit[a] + hit[b] + hit[c]) / 3.0, normal[a], share, 1.0, s)) return;
+        // The receiver area one pixel covers, exactly: the triangle's own world area over its
+        // pixels. (caustic_square_on's estimate bounds cos θ_view by 0.2, which overstated the
+        // port's distant, grazing seabed: flux +5.6 % against +2.4 %.) A triangle too small
+        // for the ratio to be more than rounding keeps the estimate.
+        if (area > 1e-12 && pixels > 1e-4) s.irradiance.rgb = share * pixels / (area * frame.surface_irradiance);
+        // A sliver that is not long (the strip's own test) goes to the pixels its footprint
+        // overlaps (below). Drawn at its centroid, a fold through sparse photons was a dotted
+        // line (the port's near seabed).
+        strip = true;
+        strip_per_pixel = s.irradiance.rgb;
+    } else {
+        flat_e = triangle_flux(a, b, c) / (area * frame.surface_irradiance);
+        // Under a pixel across its longest edge, a triangle would cover the pixel centres along
+        // it in a broken line (a grazed wall's hatching, docs/accuracy.md "Strips weighed by a
+        // tent across").
+        strip = thin_triangle(a, b, c, pixels);
+        strip_per_pixel = flat_e * pixels;
+    }
+    if (strip && emit_thin_sliver(a, b, c, strip_per_pixel)) return;
+    if (sliver) {
+        // (sliver_footprint_code, shader_math.glsl)
+        s.size = 2.0;
+        emit_square(s, sliver_footprint_code(target_pixel(s.clip), sqrt(pixels)));
         return;
     }
-    vec3 flat_e = triangle_flux(a, b, c) / (area * frame.surface_irradiance);
-    // Under a pixel across its longest edge, a triangle would cover the pixel centres along it
-    // in a broken line (a grazed wall's hatching, docs/accuracy.md "Strips weighed by a tent
-    // across"): it is drawn as a strip with its own flux, as a sliver is.
-    if (thin_triangle(a, b, c, pixels) && emit_thin_sliver(a, b, c, flat_e * pixels)) return;
     vec3 ea = photon_irradiance(a), eb = photon_irradiance(b), ec = photon_irradiance(c);
     vec3 mean_e = (ea + eb + ec) / 3.0;
     vec3 scale = flat_e / max(mean_e, vec3(1e-30));
