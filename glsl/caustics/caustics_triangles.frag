@@ -24,9 +24,10 @@ void main() {
     // One test per kind of primitive, each written once: llvmpipe runs every side of a
     // branch for every fragment, masked, and the squares' test (five reads of the scene's
     // depth) written out for the strips and the squares apart cost a sixth of the pass
-    // (docs/performance.md, "The depth buffer read by texel").
-    bool off = code == 0.0 ? off_scene(gl_FragCoord.xy, size, gl_FragCoord.w, gradient, CAUSTIC_DEPTH_TOLERANCE)
-                           : square_off_scene(gl_FragCoord.xy, size, 1.0 / gl_FragCoord.w, reach, CAUSTIC_DEPTH_TOLERANCE);
+    // (docs/performance.md, "The caustic triangles' masked work").
+    float tolerance = CAUSTIC_DEPTH_TOLERANCE;
+    bool off = code == 0.0 ? off_scene(gl_FragCoord.xy, size, gl_FragCoord.w, gradient, tolerance)
+                           : square_off_scene(gl_FragCoord.xy, size, 1.0 / gl_FragCoord.w, reach, tolerance);
     if (off) discard;
     float weight = strip ? strip_weight(code) : code > 0.5 ? sliver_footprint_weight(gl_FragCoord.xy, code) : 1.0;
     out_irradiance = vec4(g_irradiance.rgb * weight, 1.0);

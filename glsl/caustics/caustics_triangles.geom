@@ -308,8 +308,8 @@ void emit_triangle(int a, int b, int c) {
     // A long, thin triangle is laid along its length as a strip carrying its flux
     // (emit_thin_sliver), a sliver's with the irradiance of one pixel's receiver area, a thin
     // triangle's with its own over its pixels. One call for both: llvmpipe runs every side of
-    // a branch, masked, for every triangle (docs/performance.md, "The depth buffer read by
-    // texel").
+    // a branch, masked, for every triangle (docs/performance.md, "The caustic triangles'
+    // masked work").
     bool strip = false;
     vec3 strip_per_pixel = vec3(0.0);
     CausticSplat s;
@@ -608,7 +608,7 @@ void main() {
     // over the list, as search_borders lists its edges: llvmpipe runs a loop's body, masked,
     // until no lane needs another pass, so a loop over every photon that skipped the others
     // ran the drawing below once per photon, where most invocations draw no cell at all
-    // (docs/performance.md, "The depth buffer read by texel").
+    // (docs/performance.md, "The caustic triangles' masked work").
     int cell_photons[MAX_PHOTONS];
     int cell_count = 0;
     for (int k = 0; k < side * side; ++k) {
