@@ -305,11 +305,10 @@ void emit_triangle(int a, int b, int c) {
     float area = triangle_area(a, b, c);
     float pixels = triangle_pixels(a, b, c);
     bool sliver = pixels < SLIVER_PIXELS || !(area > 1e-12);
-    // A long, thin triangle is laid along its length as a strip carrying its flux
-    // (emit_thin_sliver), a sliver's with the irradiance of one pixel's receiver area, a thin
-    // triangle's with its own over its pixels. One call for both: llvmpipe runs every side of
-    // a branch, masked, for every triangle (docs/performance.md, "The caustic triangles'
-    // masked work").
+    // A long, thin triangle, sliver or not, is laid along its length as a strip carrying its
+    // flux (emit_thin_sliver), handed its flux over one pixel's receiver area (/E_surface). One
+    // call for both: llvmpipe runs every side of a branch, masked, for every triangle
+    // (docs/performance.md, "The caustic triangles' masked work").
     bool strip = false;
     vec3 strip_per_pixel = vec3(0.0);
     CausticSplat s;
@@ -323,9 +322,8 @@ void emit_triangle(int a, int b, int c) {
         // port's distant, grazing seabed: flux +5.6 % against +2.4 %.) A triangle too small
         // for the ratio to be more than rounding keeps the estimate.
         if (area > 1e-12 && pixels > 1e-4) s.irradiance.rgb = share * pixels / (area * frame.surface_irradiance);
-        // A sliver that is not long (the strip's own test) goes to the pixels its footprint
-        // overlaps (below). Drawn at its centroid, a fold through sparse photons was a dotted
-        // line (the port's near seabed).
+        // A long sliver (the strip's own test) is drawn as a strip: drawn at its centroid, a
+        // fold through sparse photons was a dotted line (the port's near seabed).
         strip = true;
         strip_per_pixel = s.irradiance.rgb;
     } else {
@@ -338,7 +336,8 @@ void emit_triangle(int a, int b, int c) {
     }
     if (strip && emit_thin_sliver(a, b, c, strip_per_pixel)) return;
     if (sliver) {
-        // (sliver_footprint_code, shader_math.glsl)
+        // A sliver that is not drawn as a strip: to the pixels its footprint overlaps
+        // (sliver_footprint_code, shader_math.glsl).
         s.size = 2.0;
         emit_square(s, sliver_footprint_code(target_pixel(s.clip), sqrt(pixels)));
         return;

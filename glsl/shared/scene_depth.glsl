@@ -8,11 +8,12 @@
 layout(set = 0, binding = BINDING_SCENE_DEPTH) uniform sampler2D scene_depth;
 
 // View depth (m along the camera axis) of what the scene shows at `uv`: the texel under it,
-// clamped to the buffer, as the nearest-filtering sampler bound there picks it. Fetched by
-// texel rather than sampled: on llvmpipe a sampled read computes its coordinates, wrap and
-// level per lane, and the caustic triangles' fragment shader, which makes six of these reads,
-// spent a tenth of its pass on them (docs/performance.md, "The caustic triangles' masked
-// work").
+// clamped to the buffer, as the nearest-filtering sampler bound there picks it (a GPU's
+// sampler, which snaps coordinates to its sub-texel precision, may pick the neighbour of a
+// coordinate exactly on a texel's edge; both are nearest). Fetched by texel rather than
+// sampled: on llvmpipe a sampled read computes its coordinates, wrap and level per lane, and
+// the caustic triangles' fragment shader, which makes six of these reads, is a tenth cheaper
+// for it (docs/performance.md, "The caustic triangles' masked work").
 float scene_view_depth(vec2 uv) {
     ivec2 size = textureSize(scene_depth, 0);
     ivec2 texel = clamp(ivec2(floor(uv * vec2(size))), ivec2(0), size - 1);
