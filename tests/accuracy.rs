@@ -296,15 +296,29 @@ fn sweep_writes_csv_table_and_pareto_plot() {
     let png = std::fs::read(out.join("sweep.png")).unwrap();
     assert!(png.starts_with(b"\x89PNG") && png.len() > 10_000, "the plot is not a drawn PNG ({} bytes)", png.len());
     assert!(std::fs::read_to_string(out.join("sweep.md")).unwrap().contains("| photons |"));
-    // A second run reuses the cached reference.
+    // A second run reuses the cached reference. It measures issue 16's holes on both
+    // estimators: the paper's points at 1 px, 2 304 photons over 2 560 pixels, leave most of
+    // what the reference lights dark (0.41 when written); the triangles cover it (0.007).
     let again = Command::new(env!("CARGO_BIN_EXE_underlight"))
         .args(["sweep", "--scene", "tank", "--width", "64", "--height", "40", "--grid", "16", "--filter", "off"])
+        .args(["--estimator", "paper,triangles", "--point-size", "1"])
         .args(["--frames", "1", "--warmup", "0", "--photons", "300000", "--beams", "30000"])
         .args(["--out", out.to_str().unwrap(), "--cache", out.join("cache").to_str().unwrap()])
         .output()
         .unwrap();
     let text = String::from_utf8_lossy(&again.stderr);
     assert!(again.status.success() && !text.contains("reference tank"), "the reference was traced again:\n{text}");
+    let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    let figure = |row: &str, name: &str| -> f64 { row.split(',').nth(column(name)).unwrap().parse().unwrap() };
+    let estimator = |name: &str| csv.lines().find(|r| r.starts_with(&format!("{name},"))).expect(name);
+    let (paper, triangles) = (estimator("paper"), estimator("triangles"));
+    let holes = |row: &str| figure(row, "caustic_holes");
+    assert!(holes(paper) > 0.2 && holes(triangles) < 0.05, "holes: points {paper}, triangles {triangles}");
+    // The issue's gap fraction of each buffer beside the reference's own, the same for both.
+    let gaps = |row: &str| (figure(row, "caustic_gaps"), figure(row, "reference_caustic_gaps"));
+    let ((paper_gaps, reference_gaps), (triangle_gaps, reference_again)) = (gaps(paper), gaps(triangles));
+    assert_eq!(reference_gaps, reference_again, "{csv}");
+    assert!(paper_gaps > triangle_gaps && reference_gaps > 0.0 && reference_gaps < 1.0, "{csv}");
     // Bad values are refused before any work, naming the option.
     let bad = Command::new(env!("CARGO_BIN_EXE_underlight")).args(["sweep", "--grid", "0"]).output().unwrap();
     let err = String::from_utf8_lossy(&bad.stderr);

@@ -73,6 +73,8 @@ fn viewer_sessions_under_xvfb() {
         caustics: Some(underlight::metrics::BufferError { relative_rmse: caustic, ..Default::default() }),
         caustic_reference_own_error: None,
         caustics_at_output: None,
+        caustic_holes: None,
+        caustic_gaps: None,
         godrays: Some(underlight::metrics::BufferError { relative_rmse: 0.098, ..Default::default() }),
         godrays_at_output: None,
         flip: 0.1,

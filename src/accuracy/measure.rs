@@ -8,7 +8,9 @@ use crate::frame::uniforms::{FrameExtents, FrameUniforms};
 use crate::frame::FrameOptions;
 use crate::headless::{median_timings, SceneRenderer};
 use crate::image_io::HdrImage;
-use crate::metrics::{buffer_error, compose_srgb8, flip, frame_change, upsampled, BufferError};
+use crate::metrics::{
+    buffer_error, compose_srgb8, flip, frame_change, gap_fraction, lit_holes, upsampled, BufferError,
+};
 use crate::passes::PassId;
 use crate::vk::device::Device;
 use crate::vk::vk;
@@ -63,6 +65,17 @@ pub struct SweepRow {
     /// Sweeps written before it existed have none.
     #[serde(default)]
     pub caustics_at_output: Option<BufferError>,
+    /// Holes in the caustic buffer compose reads: the share of the pixels the reference lights
+    /// (with all their neighbours) that it leaves at exactly zero (`metrics::lit_holes`), at
+    /// the caustic target's size. Issue 16's gap target, without a shadow's border. None in
+    /// sweeps from before it was measured.
+    #[serde(default)]
+    pub caustic_holes: Option<f64>,
+    /// The gap fraction (`metrics::gap_fraction`) of that buffer and of the reference's: the
+    /// issue's own definition, which counts the dark band beside every hard shadow, so the
+    /// reference's figure is the one to hold it against.
+    #[serde(default)]
+    pub caustic_gaps: Option<[f64; 2]>,
     pub godrays: Option<BufferError>,
     /// The godray buffer upsampled to the output against a reference traced there, as
     /// `caustics_at_output`: comparable between godray target sizes. None in older sweeps.
@@ -176,6 +189,10 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
         };
         let caustics_at_output = at_output_error(gpu_c, &reference.caustics, extents.caustic, false)?;
         let godrays_at_output = at_output_error(gpu_g, &reference.godrays, extents.godray, true)?;
+        let (caustic_holes, caustic_gaps) = match (gpu_c, &reference.caustics) {
+            (Some(g), Some(r)) => (Some(lit_holes(g, r)?), Some([gap_fraction(g), gap_fraction(r)])),
+            _ => (None, None),
+        };
         let change = |a: Option<&HdrImage>, b: Option<&HdrImage>| match (a, b) {
             (Some(a), Some(b)) => frame_change(a, b),
             _ => Ok(0.0),
@@ -205,6 +222,8 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
                 _ => None,
             },
             caustics_at_output,
+            caustic_holes,
+            caustic_gaps,
             godrays: error(gpu_g, &reference.godrays)?,
             godrays_at_output,
             flip,

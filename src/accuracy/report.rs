@@ -30,7 +30,8 @@ pub fn csv(rows: &[SweepRow]) -> String {
          line_width,filter,effect_ms,frame_ms,caustic_rel_rmse,caustic_mean_rel_error,caustic_flux_error,\
          godray_rel_rmse,godray_mean_rel_error,godray_flux_error,flip,caustic_change_gpu,caustic_change_reference,\
          caustic_rel_rmse_at_output,caustic_flux_error_at_output,godray_target_w,godray_target_h,\
-         godray_rel_rmse_at_output,godray_flux_error_at_output,caustic_reference_own_error,pareto\n",
+         godray_rel_rmse_at_output,godray_flux_error_at_output,caustic_reference_own_error,caustic_holes,\
+         caustic_gaps,reference_caustic_gaps,pareto\n",
     );
     let opt = |e: Option<BufferError>| match e {
         Some(e) => format!("{:.5},{:.5},{:.5}", e.relative_rmse, e.mean_relative_error, e.flux_error),
@@ -38,9 +39,10 @@ pub fn csv(rows: &[SweepRow]) -> String {
     };
     let at_output =
         |e: Option<BufferError>| e.map(|e| format!("{:.5},{:.5}", e.relative_rmse, e.flux_error)).unwrap_or(",".into());
+    let fraction = |f: Option<f64>| f.map(|f| format!("{f:.5}")).unwrap_or_default();
     for r in rows {
         s += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{},{},{:.5},{:.5},{:.5},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{},{},{:.5},{:.5},{:.5},{},{},{},{},{},{},{},{},{}\n",
             r.estimator,
             r.godray_method,
             r.caustic_grid,
@@ -65,7 +67,10 @@ pub fn csv(rows: &[SweepRow]) -> String {
             r.godray_target[0],
             r.godray_target[1],
             at_output(r.godrays_at_output),
-            r.caustic_reference_own_error.map(|e| format!("{e:.5}")).unwrap_or_default(),
+            fraction(r.caustic_reference_own_error),
+            fraction(r.caustic_holes),
+            fraction(r.caustic_gaps.map(|g| g[0])),
+            fraction(r.caustic_gaps.map(|g| g[1])),
             r.pareto
         );
     }
@@ -75,16 +80,20 @@ pub fn csv(rows: &[SweepRow]) -> String {
 /// A table for the terminal and docs (Markdown).
 pub fn table(rows: &[SweepRow]) -> String {
     let mut s = String::from(
-        "| estimator | godrays | photons | iter | target | points ≤ | filter | effect ms | caustic rel RMSE (reference's own) | flux err | at the output | godray target | godray rel RMSE | at the output | FLIP | change GPU / ref | front |\n\
-         | --- | --- | ---: | ---: | --- | ---: | --- | ---: | ---: | ---: | ---: | --- | ---: | ---: | ---: | --- | --- |\n",
+        "| estimator | godrays | photons | iter | target | points ≤ | filter | effect ms | caustic rel RMSE (reference's own) | flux err | at the output | holes (gaps, reference's) | godray target | godray rel RMSE | at the output | FLIP | change GPU / ref | front |\n\
+         | --- | --- | ---: | ---: | --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | --- | ---: | ---: | ---: | --- | --- |\n",
     );
     let rmse = |e: Option<BufferError>| e.map(|e| format!("{:.3}", e.relative_rmse)).unwrap_or("–".into());
     for r in rows {
         let own = r.caustic_reference_own_error.map(|o| format!(" ({o:.3})")).unwrap_or_default();
         let c = r.caustics.map(|e| (format!("{:.3}{own}", e.relative_rmse), format!("{:+.1} %", 100.0 * e.flux_error)));
         let (c_rmse, c_flux) = c.unwrap_or(("–".into(), "–".into()));
+        let holes = match (r.caustic_holes, r.caustic_gaps) {
+            (Some(h), Some([gpu, reference])) => format!("{:.2} % ({gpu:.3}, {reference:.3})", 100.0 * h),
+            _ => "–".into(),
+        };
         s += &format!(
-            "| {} | {} | {}² × {}²{} | {} | {}×{} | {} | {} | {:.1} | {} | {} | {} | {}×{} | {} | {} | {:.3} | {:.3} / {:.3} | {} |\n",
+            "| {} | {} | {}² × {}²{} | {} | {}×{} | {} | {} | {:.1} | {} | {} | {} | {} | {}×{} | {} | {} | {:.3} | {:.3} / {:.3} | {} |\n",
             r.estimator,
             if r.godray_photon_density == "even" {
                 r.godray_method.clone()
@@ -103,6 +112,7 @@ pub fn table(rows: &[SweepRow]) -> String {
             c_rmse,
             c_flux,
             rmse(r.caustics_at_output),
+            holes,
             r.godray_target[0],
             r.godray_target[1],
             rmse(r.godrays),
@@ -252,6 +262,8 @@ mod tests {
             caustics: e,
             caustic_reference_own_error: None,
             caustics_at_output: e,
+            caustic_holes: Some(0.0123),
+            caustic_gaps: Some([0.05, 0.04]),
             godrays: e,
             godrays_at_output: e,
             flip: 0.1,
@@ -274,6 +286,9 @@ mod tests {
         let md = table(&[row("triangles", "marched")]);
         assert!(md.starts_with("| estimator | godrays | photons |"), "{md}");
         assert!(md.contains("\n| triangles | marched | 100² × 3² |"), "{md}");
+        assert!(md.contains("| 1.23 % (0.050, 0.040) |"), "{md}");
+        let holes = lines[0].split(',').position(|c| c == "caustic_holes").expect("a holes column");
+        assert_eq!(lines[1].split(',').nth(holes), Some("0.01230"), "{text}");
         // The Markdown separator row has a cell per column.
         let cells = |line: &str| line.matches('|').count();
         let md_lines: Vec<&str> = md.lines().collect();

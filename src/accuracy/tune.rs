@@ -122,6 +122,8 @@ mod tests {
             caustics: e(caustic),
             caustic_reference_own_error: None,
             caustics_at_output: e(caustic),
+            caustic_holes: None,
+            caustic_gaps: None,
             godrays: e(godray),
             godrays_at_output: None,
             flip: 0.0,
