@@ -215,6 +215,9 @@ pub mod bindings {
     /// The frame's values (`UNIFORMS` up to its warp tables, the same buffer) as a uniform
     /// block, which the fragment shaders read (glsl/shared/frame.glsl says why).
     pub const FRAME_VALUES: u32 = 17;
+    /// The caustic triangles' cells handed to their refinement draw, headed by that draw's
+    /// indirect command (caustics_triangles_refined.geom; the caustics pass binds its own).
+    pub const REFINED_CELLS: u32 = 18;
     /// Every binding by its macro name, for the shader compiler.
     pub const ALL: &[(&str, u32)] = &[
         ("UNIFORMS", UNIFORMS),
@@ -235,6 +238,7 @@ pub mod bindings {
         ("REFRACTION_DEPTH", REFRACTION_DEPTH),
         ("REFLECTION_COLOR", REFLECTION_COLOR),
         ("FRAME_VALUES", FRAME_VALUES),
+        ("REFINED_CELLS", REFINED_CELLS),
     ];
 }
 

@@ -70,6 +70,14 @@ pub struct Variant {
 pub const VARIANTS: &[Variant] = &[
     // Every photon's cast recorded for the tests (glsl/caustics/caustics.geom).
     Variant { name: "caustics_debug.geom", source: "caustics/caustics.geom", defines: &["PHOTON_DEBUG"] },
+    // The caustic triangles with refinement at receivers' borders (effects.caustic_refinement):
+    // the grid's draw hands cells on, the refinement draw casts them finer. Its own program,
+    // since its stores need vertexPipelineStoresAndAtomics.
+    Variant {
+        name: "caustics_triangles_refined.geom",
+        source: "caustics/caustics_triangles.geom",
+        defines: &["CAUSTIC_REFINEMENT"],
+    },
     // Every godray beam's cast recorded for the flux budget (glsl/godrays/godrays.geom).
     Variant { name: "godrays_debug.geom", source: "godrays/godrays.geom", defines: &["PHOTON_DEBUG"] },
     // The same for the footprint-sized beams (glsl/godrays/godrays_footprint.geom).

@@ -575,6 +575,10 @@ fn out_of_range_values_are_errors_naming_the_field_and_the_range() {
         ),
         ("[effects]\ncaustic_estimator = \"splats\"\n", "effects.caustic_estimator"),
         (
+            "[effects]\ncaustic_estimator = \"paper\"\ncaustic_refinement = true\n",
+            "effects.caustic_refinement = true refines the triangle estimator's mesh: it needs effects.caustic_estimator = \"triangles\" (here \"paper\")",
+        ),
+        (
             "[effects]\ngodray_method = \"footprint\"\ngodray_subdivision = 5\n",
             "effects.godray_subdivision = 5 is out of range for effects.godray_method = \"footprint\": must be <= 4",
         ),

@@ -68,6 +68,7 @@ fn viewer_sessions_under_xvfb() {
         photon_density: if estimator == "triangles" { "view" } else { "even" }.into(),
         godray_photon_density: "view".into(),
         godray_method: "beams".into(),
+        caustic_refinement: false,
         effect_ms: 1.0,
         frame_ms: 1.0,
         caustics: Some(underlight::metrics::BufferError { relative_rmse: caustic, ..Default::default() }),

@@ -78,6 +78,28 @@ out gl_PerVertex { vec4 gl_Position; };
 layout(constant_id = 0) const uint SUBDIVISION = 2;
 layout(push_constant) uniform GridPush { uint grid; } pc;
 
+#ifdef CAUSTIC_REFINEMENT
+// Refinement at receivers' borders (effects.caustic_refinement; compiled as
+// caustics_triangles_refined.geom). A mesh cell whose corners land on two receivers, or of
+// which one did not land, is where the mesh cannot follow the light: a post's face a
+// centimetre wide in the light's window between photons 4 cm apart, a rock's flank between
+// its rim and the floor. The grid's draw hands such cells to a second draw (REFINED_DRAW)
+// instead of drawing them, which casts each again as SUBDIVISION × SUBDIVISION mesh cells
+// of its own and draws those as the grid's are drawn. The cells handed on are listed in a
+// buffer whose head is the second draw's indirect command: the grid's draw counts them
+// into its vertex count (passes/caustics.rs resets it to zero each frame).
+layout(constant_id = 3) const bool REFINED_DRAW = false;
+layout(set = 0, binding = BINDING_REFINED_CELLS, std430) buffer RefinedCells {
+    uint vertex_count; // VkDrawIndirectCommand: one invocation per cell handed on
+    uint instance_count;
+    uint first_vertex;
+    uint first_instance;
+    ivec2 first_photon[]; // each cell's lower-left photon on the grid (−1 in the ring)
+} refined;
+#else
+const bool REFINED_DRAW = false;
+#endif
+
 layout(location = 0) flat in uvec2 v_cell[];
 // rgb: irradiance / E_surface, interpolated per vertex; a: 0, a strip's code across it
 // (strip_across_code, shader_math.glsl), or a sliver's footprint code, the same at its four
@@ -539,19 +561,40 @@ void main() {
     int side = int(SUBDIVISION) + 1;
     ivec2 cell;
     uvec2 cells;
-    if (!mesh_cell(v_cell[0], pc.grid, cell, cells)) return;
-    vec2 photons_per_axis = vec2(cells * SUBDIVISION);
-    // Along an axis where the cell is the ring's, the invocation's photons start at −1, so that
-    // the grid's first photon has its neighbours on both sides for its cell's edges
-    // (footprint_edge); only the mesh cells from −1 are drawn there (mesh_cell_drawn).
-    ivec2 first = ivec2(cell.x < 0 ? -1 : cell.x * int(SUBDIVISION), cell.y < 0 ? -1 : cell.y * int(SUBDIVISION));
+    ivec2 first;
+    vec2 photons_per_axis;
+    if (REFINED_DRAW) {
+#ifdef CAUSTIC_REFINEMENT
+        // A mesh cell of the grid, handed on: its photons are a SUBDIVISION-times finer grid
+        // over it, whose corners are the grid's own four photons, at the same bits.
+        uint handed_on = v_cell[0].y * pc.grid + v_cell[0].x;
+        if (handed_on >= min(refined.vertex_count, uint(refined.first_photon.length()))) return;
+        uvec2 grid_cell;
+        caustic_grid_cell(uvec2(0u), pc.grid, grid_cell, cells);
+        cell = ivec2(0); // every mesh cell of the finer grid is drawn (mesh_cell_drawn)
+        first = refined.first_photon[handed_on];
+#endif
+    } else {
+        if (!mesh_cell(v_cell[0], pc.grid, cell, cells)) return;
+        // Along an axis where the cell is the ring's, the invocation's photons start at −1, so
+        // that the grid's first photon has its neighbours on both sides for its cell's edges
+        // (footprint_edge); only the mesh cells from −1 are drawn there (mesh_cell_drawn).
+        first = ivec2(cell.x < 0 ? -1 : cell.x * int(SUBDIVISION), cell.y < 0 ? -1 : cell.y * int(SUBDIVISION));
+    }
+    photons_per_axis = vec2(cells * SUBDIVISION);
+    // The photons' own grid, for their cells' size (cell_pixels): the finer one where refined.
+    vec2 mesh_photons_per_axis = REFINED_DRAW ? photons_per_axis * float(SUBDIVISION) : photons_per_axis;
     for (int j = 0; j < side; ++j) {
         for (int i = 0; i < side; ++i) {
             int k = j * side + i;
             // Sub-cell SUBDIVISION is the neighbour cell's first photon, at the same bits as
             // the neighbour casts it (caustic_grid_photon_uv, whose float arithmetic this
-            // repeats for the ring's photons at −1).
-            vec2 uv = (vec2(first + ivec2(i, j)) + 0.5) / photons_per_axis;
+            // repeats for the ring's photons at −1). Refined, photon (i, j) lies i/SUBDIVISION
+            // and j/SUBDIVISION of a grid edge past the cell's first: 0 and 1 at its corners,
+            // exactly, so they are the grid's photons to the bit.
+            vec2 offset = REFINED_DRAW ? vec2(i, j) / float(SUBDIVISION) : vec2(i, j);
+            vec2 uv = REFINED_DRAW ? (vec2(first) + 0.5 + offset) / photons_per_axis
+                                   : (vec2(first + ivec2(i, j)) + 0.5) / photons_per_axis;
             Photon ph;
             grid_uv[k] = uv;
             border_u[k] = -1.0;
@@ -582,10 +625,35 @@ void main() {
     // the two calls rather than in an if and an else with two calls each: llvmpipe runs
     // both sides of a branch for every lane, masked, and the triangles are most of the
     // shader's work (docs/performance.md, "One copy of the search").
+#ifdef CAUSTIC_REFINEMENT
+    // Which mesh cells this invocation hands to the refinement draw (indexed by their
+    // lower-left photon): those with a refused triangle and a corner the camera sees.
+    bool handed_on[MAX_PHOTONS];
+    for (int k = 0; k < MAX_PHOTONS; ++k) handed_on[k] = false;
+    if (!REFINED_DRAW) {
+        for (int j = 0; j + 1 < side; ++j) {
+            for (int i = 0; i + 1 < side; ++i) {
+                if (!mesh_cell_drawn(cell, i, j)) continue;
+                int p00 = j * side + i, p10 = p00 + 1, p01 = p00 + side, p11 = p01 + 1;
+                bool split = split_along_p00_p11(p00, p10, p01, p11);
+                bool drawn_whole = one_receiver(p00, p10, split ? p11 : p01) && one_receiver(split ? p00 : p10, p11, p01);
+                if (drawn_whole || !(seen[p00] || seen[p10] || seen[p01] || seen[p11])) continue;
+                uint slot = atomicAdd(refined.vertex_count, 1u);
+                // A full list: the cell is drawn here, as without refinement.
+                if (slot >= uint(refined.first_photon.length())) continue;
+                refined.first_photon[slot] = first + ivec2(i, j);
+                handed_on[p00] = true;
+            }
+        }
+    }
+#endif
     for (int j = 0; j + 1 < side; ++j) {
         for (int i = 0; i + 1 < side; ++i) {
             if (!mesh_cell_drawn(cell, i, j)) continue;
             int p00 = j * side + i, p10 = p00 + 1, p01 = p00 + side, p11 = p01 + 1;
+#ifdef CAUSTIC_REFINEMENT
+            if (handed_on[p00]) continue;
+#endif
             bool split = split_along_p00_p11(p00, p10, p01, p11);
             gather_triangle(p00, p10, split ? p11 : p01, QUARTER_PLUS_U_PLUS_V, QUARTER_MINUS_U_PLUS_V,
                             split ? QUARTER_MINUS_U_MINUS_V : QUARTER_PLUS_U_MINUS_V);
@@ -597,6 +665,9 @@ void main() {
         for (int i = 0; i + 1 < side; ++i) {
             if (!mesh_cell_drawn(cell, i, j)) continue;
             int p00 = j * side + i, p10 = p00 + 1, p01 = p00 + side, p11 = p01 + 1;
+#ifdef CAUSTIC_REFINEMENT
+            if (handed_on[p00]) continue;
+#endif
             bool split = split_along_p00_p11(p00, p10, p01, p11);
             emit_triangle(p00, p10, split ? p11 : p01);
             emit_triangle(split ? p00 : p10, p11, p01);
@@ -637,7 +708,7 @@ void main() {
         // grazes, whose cells stretch), the rule's size: footprint-sized squares there were
         // grey blocks on the tank's cube, against faint streaks in the reference.
         if (around_count[k] > 0.0) size = min(size, sqrt(2.0 * around_pixels[k] / around_count[k]));
-        else if (frame.light_is_point == 0.0) size = min(size, sqrt(cell_pixels(k, photons_per_axis)));
+        else if (frame.light_is_point == 0.0) size = min(size, sqrt(cell_pixels(k, mesh_photons_per_axis)));
         CausticSplat s;
         size = clamp(round(size), 1.0, floor(frame.device_max_point_size));
         if (caustic_square_on(hit[k], normal[k], returned[k], size, s)) { // a drawn cell's photon landed

@@ -23,6 +23,8 @@ pub struct SweepAxes {
     pub photon_density: Vec<PhotonSpread>,
     pub godray_photon_density: Vec<PhotonSpread>,
     pub godray_method: Vec<GodrayMethod>,
+    /// `effects.caustic_refinement` (the triangles' refinement at receivers' borders).
+    pub refinement: Vec<bool>,
 }
 
 impl SweepAxes {
@@ -89,15 +91,20 @@ impl SweepAxes {
         } else {
             self.godray_photon_density.clone()
         };
-        // Filter, estimator, photon density, godray method and beam density, the last varying
-        // fastest.
-        let mut switches: Vec<(bool, CausticEstimator, PhotonSpread, GodrayMethod, PhotonSpread)> = Vec::new();
+        let refinements = if self.refinement.is_empty() { vec![e.caustic_refinement] } else { self.refinement.clone() };
+        // Filter, estimator, refinement, photon density, godray method and beam density, the
+        // last varying fastest.
+        type Switches = (bool, CausticEstimator, bool, PhotonSpread, GodrayMethod, PhotonSpread);
+        let mut switches: Vec<Switches> = Vec::new();
         for &filter in &filters {
             for &estimator in &estimators {
-                for &density in &densities {
-                    for &method in &godray_methods {
-                        switches
-                            .extend(beam_densities.iter().map(|&beams| (filter, estimator, density, method, beams)));
+                for &refine in &refinements {
+                    for &density in &densities {
+                        for &method in &godray_methods {
+                            switches.extend(
+                                beam_densities.iter().map(|&beams| (filter, estimator, refine, density, method, beams)),
+                            );
+                        }
                     }
                 }
             }
@@ -110,7 +117,7 @@ impl SweepAxes {
                         for &godray_scale in &orf(&self.godray_target_scale, e.godray_target_scale) {
                             for &size in &orf(&self.point_size, e.point_size_max) {
                                 for &width in &orf(&self.line_width, e.line_width) {
-                                    for &(filter, estimator, density, godray_method, beams) in &switches {
+                                    for &(filter, estimator, refine, density, godray_method, beams) in &switches {
                                         let mut s = base.clone();
                                         let fx = &mut s.effects;
                                         fx.caustic_grid = grid;
@@ -126,6 +133,12 @@ impl SweepAxes {
                                         fx.caustic_photon_density = density;
                                         fx.godray_photon_density = beams;
                                         fx.godray_method = godray_method;
+                                        fx.caustic_refinement = refine;
+                                        // Refinement is the triangles' (a scene file refuses it
+                                        // for the paper's points).
+                                        if refine && estimator != CausticEstimator::Triangles {
+                                            continue;
+                                        }
                                         // The triangle estimator's subdivision bound (its
                                         // geometry shader's output limit) skips larger ones.
                                         if sub > estimator.max_subdivision() {
@@ -192,6 +205,30 @@ mod tests {
         assert!(refused.contains("--godray-method marched needs a directional light"), "{refused}");
         assert_eq!(methods(&axes.scenes(&point)), [GodrayMethod::Beams; 3]);
         SweepAxes { godray_method: vec![GodrayMethod::Beams], ..axes }.validate_for(&point).unwrap();
+    }
+
+    #[test]
+    fn refinement_is_an_axis_of_the_triangles_only() {
+        let tank = crate::scene::load("tank").unwrap();
+        let axes = SweepAxes {
+            estimator: vec![CausticEstimator::Paper, CausticEstimator::Triangles],
+            refinement: vec![false, true],
+            ..Default::default()
+        };
+        let settings: Vec<(CausticEstimator, bool)> =
+            axes.scenes(&tank).iter().map(|s| (s.effects.caustic_estimator, s.effects.caustic_refinement)).collect();
+        // The paper's points have no mesh to refine: their refined row is skipped.
+        assert_eq!(
+            settings,
+            [
+                (CausticEstimator::Paper, false),
+                (CausticEstimator::Triangles, false),
+                (CausticEstimator::Triangles, true)
+            ]
+        );
+        // Empty: the scene's own.
+        let own = SweepAxes::default().scenes(&tank);
+        assert_eq!(own[0].effects.caustic_refinement, tank.effects.caustic_refinement);
     }
 
     #[test]

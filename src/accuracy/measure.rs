@@ -49,6 +49,9 @@ pub struct SweepRow {
     /// `GodrayMethod::name`. Sweeps written before the method existed read as the beams.
     #[serde(default = "default_godray_method")]
     pub godray_method: String,
+    /// `effects.caustic_refinement`; off in sweeps from before it existed.
+    #[serde(default)]
+    pub caustic_refinement: bool,
     /// Median GPU ms of the passes the settings change: shadow, caustics, godrays, filter.
     pub effect_ms: f64,
     /// Median GPU ms of the whole frame (all passes).
@@ -118,10 +121,11 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
     for (k, scene) in scenes.iter().enumerate() {
         let e = &scene.effects;
         eprintln!(
-            "setting {}/{}: {} estimator, {} photons, {} godrays ({} beams), grid {}² × {}², {} iterations, target ×{}, godray target ×{}, points ≤ {} px, lines {} px, filter {}",
+            "setting {}/{}: {} estimator{}, {} photons, {} godrays ({} beams), grid {}² × {}², {} iterations, target ×{}, godray target ×{}, points ≤ {} px, lines {} px, filter {}",
             k + 1,
             scenes.len(),
             e.caustic_estimator.name(),
+            if e.caustic_refinement { " refined" } else { "" },
             e.caustic_photon_density.name(),
             e.godray_method.name(),
             e.godray_photon_density.name(),
@@ -214,6 +218,7 @@ pub fn run_sweep(device: &Arc<Device>, spec: &SweepSpec) -> Result<Vec<SweepRow>
             photon_density: e.caustic_photon_density.name().to_string(),
             godray_photon_density: e.godray_photon_density.name().to_string(),
             godray_method: e.godray_method.name().to_string(),
+            caustic_refinement: e.caustic_refinement,
             effect_ms,
             frame_ms,
             caustics: error(gpu_c, &reference.caustics)?,

@@ -31,7 +31,7 @@ pub fn csv(rows: &[SweepRow]) -> String {
          godray_rel_rmse,godray_mean_rel_error,godray_flux_error,flip,caustic_change_gpu,caustic_change_reference,\
          caustic_rel_rmse_at_output,caustic_flux_error_at_output,godray_target_w,godray_target_h,\
          godray_rel_rmse_at_output,godray_flux_error_at_output,caustic_reference_own_error,caustic_holes,\
-         caustic_gaps,reference_caustic_gaps,pareto\n",
+         caustic_gaps,reference_caustic_gaps,caustic_refinement,pareto\n",
     );
     let opt = |e: Option<BufferError>| match e {
         Some(e) => format!("{:.5},{:.5},{:.5}", e.relative_rmse, e.mean_relative_error, e.flux_error),
@@ -42,7 +42,7 @@ pub fn csv(rows: &[SweepRow]) -> String {
     let fraction = |f: Option<f64>| f.map(|f| format!("{f:.5}")).unwrap_or_default();
     for r in rows {
         s += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{},{},{:.5},{:.5},{:.5},{},{},{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{},{},{:.5},{:.5},{:.5},{},{},{},{},{},{},{},{},{},{}\n",
             r.estimator,
             r.godray_method,
             r.caustic_grid,
@@ -71,6 +71,7 @@ pub fn csv(rows: &[SweepRow]) -> String {
             fraction(r.caustic_holes),
             fraction(r.caustic_gaps.map(|g| g[0])),
             fraction(r.caustic_gaps.map(|g| g[1])),
+            r.caustic_refinement,
             r.pareto
         );
     }
@@ -88,6 +89,9 @@ pub fn table(rows: &[SweepRow]) -> String {
         let own = r.caustic_reference_own_error.map(|o| format!(" ({o:.3})")).unwrap_or_default();
         let c = r.caustics.map(|e| (format!("{:.3}{own}", e.relative_rmse), format!("{:+.1} %", 100.0 * e.flux_error)));
         let (c_rmse, c_flux) = c.unwrap_or(("–".into(), "–".into()));
+        // How the photons lie and are refined, after their count.
+        let spread = if r.photon_density == "even" { String::new() } else { format!(", {}", r.photon_density) };
+        let photons_how = format!("{spread}{}", if r.caustic_refinement { ", refined" } else { "" });
         let holes = match (r.caustic_holes, r.caustic_gaps) {
             (Some(h), Some([gpu, reference])) => format!("{:.2} % ({gpu:.3}, {reference:.3})", 100.0 * h),
             _ => "–".into(),
@@ -102,7 +106,7 @@ pub fn table(rows: &[SweepRow]) -> String {
             },
             r.caustic_grid,
             r.caustic_subdivision,
-            if r.photon_density == "even" { String::new() } else { format!(", {}", r.photon_density) },
+            photons_how,
             r.iterations,
             r.caustic_target[0],
             r.caustic_target[1],
@@ -257,6 +261,7 @@ mod tests {
             photon_density: "even".into(),
             godray_photon_density: "even".into(),
             godray_method: godray_method.into(),
+            caustic_refinement: false,
             effect_ms: 1.0,
             frame_ms: 2.0,
             caustics: e,

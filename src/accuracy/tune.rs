@@ -117,6 +117,7 @@ mod tests {
             photon_density: "view".into(),
             godray_photon_density: "view".into(),
             godray_method: "beams".into(),
+            caustic_refinement: false,
             effect_ms: ms,
             frame_ms: ms,
             caustics: e(caustic),

@@ -54,6 +54,10 @@ pub(super) struct SweepArgs {
     /// light).
     #[arg(long, value_delimiter = ',', value_parser = godray_method)]
     godray_method: Vec<underlight::scene::GodrayMethod>,
+    /// The triangles' refinement at receivers' borders (effects.caustic_refinement): on, off,
+    /// or both.
+    #[arg(long, value_delimiter = ',', value_enum)]
+    refinement: Vec<OnOff>,
     /// Timed frames per setting (median) and warm-up frames.
     #[arg(long, default_value_t = 5)]
     frames: u32,
@@ -91,6 +95,7 @@ pub(super) fn run(cli: &Cli, args: &SweepArgs) -> Result<i32> {
         photon_density: args.photon_density.clone(),
         godray_photon_density: args.godray_photon_density.clone(),
         godray_method: args.godray_method.clone(),
+        refinement: args.refinement.iter().map(|r| *r == OnOff::On).collect(),
     };
     axes.validate()?;
     axes.validate_for(&scene)?;

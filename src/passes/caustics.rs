@@ -13,10 +13,11 @@ use crate::scene::{CausticEstimator, Effects, PhotonSpread};
 use crate::shader_abi::bindings as b;
 use crate::shaders;
 use crate::vk::buffer::Buffer;
+use crate::vk::commands::FRAMES_IN_FLIGHT;
 use crate::vk::descriptors::{Binding, DescriptorSets, Resource};
 use crate::vk::device::Device;
 use crate::vk::pipeline::{Blend, ComputePipelineDesc, GraphicsPipelineDesc, Pipeline};
-use crate::vk::render_pass::ColorTarget;
+use crate::vk::render_pass::{Attachment, ColorTarget, Load, RenderPass, Store};
 use ash::vk;
 use std::cell::Cell;
 use std::sync::Arc;
@@ -44,6 +45,30 @@ struct SplatFloor {
     recorded: Cell<bool>,
 }
 
+/// The triangles' refinement at receivers' borders (`effects.caustic_refinement`,
+/// caustics_triangles.geom's CAUSTIC_REFINEMENT): the grid's draw lists the mesh cells it
+/// hands on, and a second draw, as many invocations as it listed, casts each again finer.
+struct Refinement {
+    /// Per frame in flight: the second draw's `VkDrawIndirectCommand`, whose vertex count the
+    /// grid's draw counts up, then each handed-on cell's first photon (an ivec2).
+    cells: Vec<Buffer>,
+    /// The second draw's pipeline (REFINED_DRAW) and its render pass, which keeps what the
+    /// grid's draw left in the target.
+    draw: Pipeline,
+    render_pass: RenderPass,
+}
+
+/// Bytes of `Refinement::cells`' head, the indirect command, and of each cell it lists.
+const INDIRECT_COMMAND_BYTES: u64 = 16;
+const REFINED_CELL_BYTES: u64 = 8;
+
+/// How many mesh cells the refinement's list holds: a quarter of the grid's mesh, past which
+/// cells are drawn unrefined. The built-in scenes hand on 5–9 % of the cells the camera sees
+/// (docs/accuracy.md, "Refinement at receivers' borders").
+fn refined_cells_capacity(grid: u32, subdivision: u32) -> u64 {
+    (grid as u64 * subdivision as u64).pow(2).div_ceil(4)
+}
+
 pub struct CausticsPass {
     pub path: PhotonPath,
     pub estimator: CausticEstimator,
@@ -65,6 +90,7 @@ pub struct CausticsPass {
     pipeline: Pipeline,
     accumulation: Option<AtomicAccumulation>,
     splat_floor: Option<SplatFloor>,
+    refinement: Option<Refinement>,
     pub target: ColorTarget,
     /// This pass's descriptor sets (`passes::photon_set_index`), written by the frame.
     pub sets: DescriptorSets,
@@ -113,10 +139,19 @@ impl CausticsPass {
         if path == PhotonPath::Compute {
             require_float_atomics(device)?;
         }
+        // Recording, the triangles' photons go through the points' recording variant.
+        let refines = effects.caustic_refinement && triangles && !record_photons;
+        if refines && !device.has_pipeline_stores() {
+            return Err(Error::MissingFeatures {
+                device: device.info.name.clone(),
+                missing: vec!["vertexPipelineStoresAndAtomics (effects.caustic_refinement)"],
+            });
+        }
         let photons = (grid as u64 * subdivision as u64).pow(2);
         // Each path binds what its shaders read besides the frame's textures.
         let mut bindings = BINDINGS.to_vec();
         match (path, record_photons) {
+            _ if refines => bindings.push((b::REFINED_CELLS, Binding::Storage)),
             (_, true) => bindings.push((b::PHOTON_DEBUG, Binding::Storage)),
             (PhotonPath::Compute, _) => bindings.push((b::PHOTON_ACCUMULATION, Binding::Storage)),
             (PhotonPath::SplatFloor, _) => bindings.push((b::SPLAT_RECORDS, Binding::Storage)),
@@ -137,7 +172,9 @@ impl CausticsPass {
         // scene spreads its photons for the view; WATER_NEWTON_ONLY: it compiles only the
         // water search its rays take.
         let warps = effects.caustic_photon_density == PhotonSpread::View;
-        let specialization = [(0, subdivision), (1, warps as u32), (2, newton_crossing as u32)];
+        // REFINED_DRAW (3): off but in the refinement's second draw.
+        let specialization = [(0, subdivision), (1, warps as u32), (2, newton_crossing as u32), (3, 0)];
+        let refined_specialization = [(0, subdivision), (1, warps as u32), (2, newton_crossing as u32), (3, 1)];
         let set_layouts = [sets.layout];
         let compute = |name: &str, shader: &str| {
             shaders::compute_pipeline(
@@ -171,10 +208,11 @@ impl CausticsPass {
             // which numbers them over the triangles' grid (caustics.geom, PHOTON_DEBUG): the
             // flux budget counts the photons the triangles cast.
             PhotonPath::GeometryShader if triangles && !record_photons => {
+                let geometry = if refines { "caustics_triangles_refined.geom" } else { "caustics_triangles.geom" };
                 let desc = GraphicsPipelineDesc {
                     name: "caustics triangles",
                     fragment: "caustics_triangles.frag",
-                    ..points("photon_grid.vert", Some("caustics_triangles.geom"))
+                    ..points("photon_grid.vert", Some(geometry))
                 };
                 (shaders::graphics_pipeline(device, &desc)?, None, None)
             }
@@ -209,6 +247,37 @@ impl CausticsPass {
                 (draw, None, Some(SplatFloor { records, cast, recorded: Cell::new(false) }))
             }
         };
+        let refinement = refines
+            .then(|| -> Result<Refinement> {
+                let size = INDIRECT_COMMAND_BYTES + refined_cells_capacity(grid, subdivision) * REFINED_CELL_BYTES;
+                let usage = vk::BufferUsageFlags::STORAGE_BUFFER
+                    | vk::BufferUsageFlags::INDIRECT_BUFFER
+                    | vk::BufferUsageFlags::TRANSFER_DST;
+                let cells = (0..FRAMES_IN_FLIGHT)
+                    .map(|frame| {
+                        let name = format!("caustic cells refined, frame {frame}");
+                        Buffer::new(device, &name, size, usage, gpu_allocator::MemoryLocation::GpuOnly)
+                    })
+                    .collect::<Result<Vec<_>>>()?;
+                for set in 0..PHOTON_SETS {
+                    let buffer = &cells[set % FRAMES_IN_FLIGHT];
+                    let resource = Resource::Storage { buffer: buffer.raw, range: buffer.size };
+                    sets.write_at(set, vec![(b::REFINED_CELLS as usize, resource)]);
+                }
+                let draw = shaders::graphics_pipeline(
+                    device,
+                    &GraphicsPipelineDesc {
+                        name: "caustics triangles refined",
+                        fragment: "caustics_triangles.frag",
+                        specialization: &refined_specialization,
+                        ..points("photon_grid.vert", Some("caustics_triangles_refined.geom"))
+                    },
+                )?;
+                let kept = Attachment::new(&target.image, Load::Keep { layout: read }, Store::Keep, read);
+                let render_pass = RenderPass::new(device, "caustics refined", &[kept], None)?;
+                Ok(Refinement { cells, draw, render_pass })
+            })
+            .transpose()?;
         // The buffers only this pass knows, in every frame's set.
         let own: Option<Resource> = match (&photon_records, &accumulation, &splat_floor) {
             (Some(r), _, _) => Some(r.resource()),
@@ -235,6 +304,7 @@ impl CausticsPass {
             pipeline,
             accumulation,
             splat_floor,
+            refinement,
             target,
             sets,
             device: device.clone(),
@@ -274,6 +344,9 @@ impl CausticsPass {
                 };
             }
         }
+        if let Some(refinement) = &self.refinement {
+            refinement.record_reset(dev, cmd, set_index);
+        }
         self.target.render_pass.begin(cmd);
         if let Some(visibility) = &self.visibility {
             visibility.record(dev, cmd, set);
@@ -290,6 +363,9 @@ impl CausticsPass {
         }
         unsafe { dev.raw.cmd_draw(cmd, vertices, 1, 0, 0) };
         self.target.render_pass.end(cmd);
+        if let Some(refinement) = &self.refinement {
+            refinement.record_draw(dev, cmd, set, set_index, &grid);
+        }
         if let Some(records) = &self.photon_records {
             records.record_host_barrier(dev, cmd);
         }
@@ -299,5 +375,43 @@ impl CausticsPass {
     /// Only meaningful after the frame that recorded them has finished.
     pub fn read_photon_records(&self) -> Option<Vec<[f32; 4]>> {
         self.photon_records.as_ref()?.read()
+    }
+}
+
+impl Refinement {
+    /// Before the grid's draw: no cells handed on yet, one instance of the second draw.
+    fn record_reset(&self, dev: &Device, cmd: vk::CommandBuffer, set_index: usize) {
+        let cells = &self.cells[set_index % FRAMES_IN_FLIGHT];
+        let command: [u32; 4] = [0, 1, 0, 0];
+        unsafe { dev.raw.cmd_update_buffer(cmd, cells.raw, 0, bytemuck::cast_slice(&command)) };
+        let to_grid_draw = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::ALL_TRANSFER)
+            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::GEOMETRY_SHADER)
+            .dst_access_mask(vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE)];
+        unsafe { dev.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&to_grid_draw)) };
+    }
+
+    /// After the grid's draw: the cells it handed on, cast finer into the same target.
+    fn record_draw(
+        &self,
+        dev: &Device,
+        cmd: vk::CommandBuffer,
+        set: Option<vk::DescriptorSet>,
+        set_index: usize,
+        grid: &[u8],
+    ) {
+        let cells = &self.cells[set_index % FRAMES_IN_FLIGHT];
+        let to_second_draw = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::GEOMETRY_SHADER)
+            .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::DRAW_INDIRECT | vk::PipelineStageFlags2::GEOMETRY_SHADER)
+            .dst_access_mask(vk::AccessFlags2::INDIRECT_COMMAND_READ | vk::AccessFlags2::SHADER_STORAGE_READ)];
+        unsafe { dev.raw.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&to_second_draw)) };
+        self.render_pass.begin(cmd);
+        self.draw.bind(cmd, set);
+        self.draw.push(cmd, grid);
+        unsafe { dev.raw.cmd_draw_indirect(cmd, cells.raw, 0, 1, INDIRECT_COMMAND_BYTES as u32) };
+        self.render_pass.end(cmd);
     }
 }

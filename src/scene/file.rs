@@ -221,6 +221,7 @@ pub(super) struct EffectsFile {
     pub caustic_grid: Option<u32>,
     pub caustic_subdivision: Option<u32>,
     pub caustic_photon_density: Option<PhotonSpreadFile>,
+    pub caustic_refinement: Option<bool>,
     pub photon_jitter: Option<bool>,
     // Ahead of the godray grid and subdivision: they are the beams' photons, which the
     // marched godrays do not use.
@@ -878,6 +879,7 @@ impl EffectsFile {
             godrays: self.godrays.unwrap_or(d.godrays),
             filter: self.filter.unwrap_or(d.filter),
             photon_jitter: self.photon_jitter.unwrap_or(d.photon_jitter),
+            caustic_refinement: self.caustic_refinement.unwrap_or(d.caustic_refinement),
             caustic_grid: int("caustic_grid", self.caustic_grid, d.caustic_grid, 1, 4096)?,
             // The geometry shaders' output limits (see shader_math).
             caustic_subdivision: int(
@@ -953,6 +955,15 @@ impl EffectsFile {
                     ),
                 ));
             }
+        }
+        if effects.caustic_refinement && effects.caustic_estimator != CausticEstimator::Triangles {
+            return Err(ctx.error(
+                "effects.caustic_refinement",
+                format_args!(
+                    "= true refines the triangle estimator's mesh: it needs effects.caustic_estimator = \"triangles\" (here \"{}\")",
+                    effects.caustic_estimator.name()
+                ),
+            ));
         }
         if effects.point_size_max < effects.point_size_min {
             return Err(ctx.error(

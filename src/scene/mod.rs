@@ -272,6 +272,11 @@ pub struct Effects {
     /// low-discrepancy sequence, `frame::uniforms::photon_jitter`), so that the grid's
     /// regular staircase becomes noise that time averages out.
     pub photon_jitter: bool,
+    /// Cast the triangle estimator's mesh cells that span two receivers again, each as
+    /// `caustic_subdivision`² finer cells (caustics_triangles.geom, CAUSTIC_REFINEMENT): more
+    /// photons only where the mesh meets a receiver's edge. Needs the triangles and the
+    /// device's vertexPipelineStoresAndAtomics.
+    pub caustic_refinement: bool,
 }
 
 impl Default for Medium {
@@ -302,6 +307,7 @@ impl Default for Effects {
             iterations: 5,
             shadow_map_size: 1024,
             photon_jitter: false,
+            caustic_refinement: false,
         }
     }
 }
