@@ -123,11 +123,16 @@ impl FramePlan {
             light_under_why()
         } else {
             format!(
-                "receivers below the water; {}² cells × {}² photons into {:.0}% of the output, {} estimator",
+                "receivers below the water; {}² cells × {}² photons into {:.0}% of the output, {} estimator{}",
                 scene.effects.caustic_grid,
                 scene.effects.caustic_subdivision,
                 100.0 * scene.effects.caustic_target_scale,
-                scene.effects.caustic_estimator.name()
+                scene.effects.caustic_estimator.name(),
+                if scene.effects.caustic_refinement {
+                    ", refined at receivers' borders (a second, indirect draw)"
+                } else {
+                    ""
+                }
             )
         };
         let scatters = scene.medium.scattering > 0.0;
