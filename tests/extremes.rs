@@ -204,14 +204,14 @@ fn triangle_estimator_at_the_extremes() {
     }
     let mut violent = overview(0.3);
     violent.water.wavelength = 0.5;
-    overview_flux(&ctx, &triangles(violent), 0.7, "triangles, violent waves");
+    overview_flux(&ctx, &triangles(violent.clone()), 0.7, "triangles, violent waves");
     let mut short = overview(0.002);
     short.water.wavelength = 0.01;
     overview_flux(&ctx, &triangles(short), 0.0, "triangles, 1 cm wavelength");
     let mut one = overview(0.04);
     one.effects.caustic_grid = 1;
     one.effects.caustic_subdivision = 1;
-    overview_flux(&ctx, &triangles(one), 0.0, "triangles, 1×1 photon grid");
+    overview_flux(&ctx, &triangles(one.clone()), 0.0, "triangles, 1×1 photon grid");
     let mut most = overview(0.04);
     most.effects.caustic_grid = 24;
     most.effects.caustic_subdivision = underlight::shader_math::TRIANGLE_MAX_SUBDIVISION;
@@ -231,12 +231,7 @@ fn triangle_estimator_at_the_extremes() {
     let fine = overview_flux(&ctx, &refined(low_sun), 0.0, "refined triangles, sun at 30°, waves");
     eprintln!("refinement: floor flux {plain:.5} W → {fine:.5} W ({:+.2} %)", 100.0 * (fine / plain - 1.0));
     assert!((fine / plain - 1.0).abs() < 0.01, "refinement moved the floor's flux: {plain} W → {fine} W");
-    let mut violent = overview(0.3);
-    violent.water.wavelength = 0.5;
     overview_flux(&ctx, &refined(violent), 0.7, "refined triangles, violent waves");
-    let mut one = overview(0.04);
-    one.effects.caustic_grid = 1;
-    one.effects.caustic_subdivision = 1;
     overview_flux(&ctx, &refined(one), 0.0, "refined triangles, 1×1 photon grid");
     overview_flux(&ctx, &refined(most), 0.0, "refined triangles, subdivision at the output limit");
     assert_clean_shutdown(ctx);
