@@ -37,8 +37,9 @@ done
 
 scenes=(tank port storage)
 # The shipped settings (assets/scenes/*.toml [effects]) as sweep axes, and the size the
-# accuracy tables in docs/accuracy.md use.
-sweep_axes=(--width 320 --height 200 --grid 100 --subdiv 3 --estimator triangles --filter on)
+# accuracy tables in docs/accuracy.md use; each also refined at receivers' borders
+# (effects.caustic_refinement, off as shipped), whose second draw is geometry-shader work.
+sweep_axes=(--width 320 --height 200 --grid 100 --subdiv 3 --estimator triangles --filter on --refinement off,on)
 
 if [ "$mode" = prepare ]; then
   cargo build --release
@@ -73,7 +74,8 @@ if [ "$mode" = quick ]; then
   godray_configs=""
   frames=(--frames 2 --warmup 1)
   scenes=(tank)
-  sweep_axes=(--width 96 --height 60 --grid 24 --subdiv 3 --estimator triangles --filter on --photons 200000 --beams 50000)
+  sweep_axes=(--width 96 --height 60 --grid 24 --subdiv 3 --estimator triangles --filter on --refinement off,on
+    --photons 200000 --beams 50000)
 else
   configs=paper-800,paper-1440,paper-1m-photons,paper-1440-high,triangles-800
   godray_configs=triangles-800,footprint-800,marched-800
