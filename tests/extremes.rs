@@ -218,8 +218,8 @@ fn triangle_estimator_at_the_extremes() {
     overview_flux(&ctx, &triangles(most.clone()), 0.0, "triangles, subdivision at the output limit");
     // Refined at receivers' borders (effects.caustic_refinement): the cells that reach the
     // pool's walls are cast again finer, and the floor's light stays (measured: 0.01307 W both,
-    // +0.00 %). The 1×1 grid's list holds a single cell (a quarter of its mesh), so the
-    // cells past it are drawn unrefined; violent waves fold the mesh without refusing it.
+    // +0.00 %). The 1×1 grid's list holds a single cell (a quarter of its mesh): any cell
+    // past it is drawn unrefined. Violent waves fold the mesh without refusing it.
     let refined = |s: Scene| {
         let mut s = triangles(s);
         s.effects.caustic_refinement = true;
