@@ -77,7 +77,7 @@ if [ "$mode" = quick ]; then
   sweep_axes=(--width 96 --height 60 --grid 24 --subdiv 3 --estimator triangles --filter on --refinement off,on
     --photons 200000 --beams 50000)
 else
-  configs=paper-800,paper-1440,paper-1m-photons,paper-1440-high,triangles-800
+  configs=paper-800,paper-1440,paper-1m-photons,paper-1440-high,triangles-800,refined-800
   godray_configs=triangles-800,footprint-800,marched-800
   frames=(--frames 20 --warmup 3)
 fi

@@ -1,5 +1,5 @@
 //! The named benchmark configurations (`--config`): the paper's table, the ones added beside
-//! it (triangles-800, marched-800, above-800) and a tiny one for smoke tests, and how a configuration is
+//! it (triangles-800, refined-800, marched-800, above-800) and a tiny one for smoke tests, and how a configuration is
 //! applied to a scene.
 
 use crate::scene::{CausticEstimator, GodrayMethod, PhotonSpread, Scene};
@@ -18,6 +18,9 @@ pub struct BenchConfig {
     /// The caustic estimator (the paper's points), and its own subdivision where it differs.
     pub caustic_estimator: CausticEstimator,
     pub caustic_subdivision: Option<u32>,
+    /// The triangles refined at receivers' borders (`effects.caustic_refinement`; off but
+    /// in refined-800).
+    pub caustic_refinement: bool,
     /// The godray method (the paper's beams).
     pub godray_method: GodrayMethod,
     /// How both photon grids are spread: the paper's even grids, or `None` to keep the
@@ -48,6 +51,7 @@ pub fn configs() -> Vec<BenchConfig> {
         subdivision: 2,
         caustic_estimator: CausticEstimator::Paper,
         caustic_subdivision: None,
+        caustic_refinement: false,
         godray_method: GodrayMethod::Beams,
         // The paper casts on an even light-space grid; the view's warp came with the
         // triangles (docs/accuracy.md) and stays with the configurations that measure them.
@@ -96,6 +100,19 @@ pub fn configs() -> Vec<BenchConfig> {
             paper_fps: "-",
             ..base.clone()
         },
+        // Not in the paper: triangles-800 refined at receivers' borders, a second, indirect
+        // draw of the cells on two receivers (docs/accuracy.md; off as the scenes ship).
+        BenchConfig {
+            name: "refined-800",
+            caustic_estimator: CausticEstimator::Triangles,
+            caustic_grid: 100,
+            caustic_subdivision: Some(3),
+            caustic_refinement: true,
+            caustic_target_scale: Some(1.0),
+            photon_density: None,
+            paper_fps: "-",
+            ..base.clone()
+        },
         // Not in the paper: triangles-800 with ray-marched godrays instead of beams, the cheap
         // end of the godray trade (docs/performance.md).
         BenchConfig {
@@ -138,6 +155,7 @@ impl BenchConfig {
         e.caustic_subdivision = self.caustic_subdivision.unwrap_or(self.subdivision);
         e.godray_subdivision = self.subdivision;
         e.caustic_estimator = self.caustic_estimator;
+        e.caustic_refinement = self.caustic_refinement;
         e.godray_method = self.godray_method;
         if let Some(spread) = self.photon_density {
             e.caustic_photon_density = spread;
@@ -175,6 +193,7 @@ pub fn move_camera_above_water(scene: &mut Scene) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::Effects;
 
     #[test]
     fn paper_configs_carry_the_papers_settings() {
@@ -197,8 +216,12 @@ mod tests {
             assert_eq!(applied.effects.caustic_photon_density, PhotonSpread::Even, "{}", config.name);
             assert_eq!(applied.effects.godray_photon_density, PhotonSpread::Even, "{}", config.name);
         }
-        // The triangles' configurations measure the scene as it ships.
+        // The triangles' configurations measure the scene as it ships, refined-800 refined.
         let triangles = c.iter().find(|c| c.name == "triangles-800").unwrap().apply(&tank);
         assert_eq!(triangles.effects.caustic_photon_density, PhotonSpread::View);
+        assert!(!triangles.effects.caustic_refinement);
+        let refined = c.iter().find(|c| c.name == "refined-800").unwrap().apply(&tank);
+        assert!(refined.effects.caustic_refinement);
+        assert_eq!(refined.effects, Effects { caustic_refinement: true, ..triangles.effects });
     }
 }
