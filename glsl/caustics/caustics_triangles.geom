@@ -592,8 +592,7 @@ void main() {
             // repeats for the ring's photons at −1). Refined, photon (i, j) lies i/SUBDIVISION
             // and j/SUBDIVISION of a grid edge past the cell's first: 0 and 1 at its corners,
             // exactly, so they are the grid's photons to the bit.
-            vec2 offset = REFINED_DRAW ? vec2(i, j) / float(SUBDIVISION) : vec2(i, j);
-            vec2 uv = REFINED_DRAW ? (vec2(first) + 0.5 + offset) / photons_per_axis
+            vec2 uv = REFINED_DRAW ? (vec2(first) + 0.5 + vec2(i, j) / float(SUBDIVISION)) / photons_per_axis
                                    : (vec2(first + ivec2(i, j)) + 0.5) / photons_per_axis;
             Photon ph;
             grid_uv[k] = uv;

@@ -65,6 +65,16 @@ pub fn configs() -> Vec<BenchConfig> {
         camera_above: false,
         paper_fps: "",
     };
+    let triangles = BenchConfig {
+        name: "triangles-800",
+        caustic_estimator: CausticEstimator::Triangles,
+        caustic_grid: 100,
+        caustic_subdivision: Some(3),
+        caustic_target_scale: Some(1.0),
+        photon_density: None,
+        paper_fps: "-",
+        ..base.clone()
+    };
     vec![
         BenchConfig { name: "paper-800", paper_fps: "> 110", ..base.clone() },
         BenchConfig { name: "paper-1440", width: 1440, height: 850, paper_fps: "> 60", ..base.clone() },
@@ -90,55 +100,16 @@ pub fn configs() -> Vec<BenchConfig> {
         },
         // Not in the paper: the triangle estimator as the built-in scenes ship it, at about
         // paper-800's cost (docs/accuracy.md), with paper-800's godrays.
-        BenchConfig {
-            name: "triangles-800",
-            caustic_estimator: CausticEstimator::Triangles,
-            caustic_grid: 100,
-            caustic_subdivision: Some(3),
-            caustic_target_scale: Some(1.0),
-            photon_density: None,
-            paper_fps: "-",
-            ..base.clone()
-        },
+        triangles.clone(),
         // Not in the paper: triangles-800 refined at receivers' borders, a second, indirect
         // draw of the cells on two receivers (docs/accuracy.md; off as the scenes ship).
-        BenchConfig {
-            name: "refined-800",
-            caustic_estimator: CausticEstimator::Triangles,
-            caustic_grid: 100,
-            caustic_subdivision: Some(3),
-            caustic_refinement: true,
-            caustic_target_scale: Some(1.0),
-            photon_density: None,
-            paper_fps: "-",
-            ..base.clone()
-        },
+        BenchConfig { name: "refined-800", caustic_refinement: true, ..triangles.clone() },
         // Not in the paper: triangles-800 with ray-marched godrays instead of beams, the cheap
         // end of the godray trade (docs/performance.md).
-        BenchConfig {
-            name: "marched-800",
-            caustic_estimator: CausticEstimator::Triangles,
-            caustic_grid: 100,
-            caustic_subdivision: Some(3),
-            caustic_target_scale: Some(1.0),
-            godray_method: GodrayMethod::Marched,
-            photon_density: None,
-            paper_fps: "-",
-            ..base.clone()
-        },
+        BenchConfig { name: "marched-800", godray_method: GodrayMethod::Marched, ..triangles.clone() },
         // Not in the paper: triangles-800 with footprint-sized beams (ribbons as wide as each
         // beam's cross-section) instead of lines (docs/performance.md).
-        BenchConfig {
-            name: "footprint-800",
-            caustic_estimator: CausticEstimator::Triangles,
-            caustic_grid: 100,
-            caustic_subdivision: Some(3),
-            caustic_target_scale: Some(1.0),
-            godray_method: GodrayMethod::Footprint,
-            photon_density: None,
-            paper_fps: "-",
-            ..base.clone()
-        },
+        BenchConfig { name: "footprint-800", godray_method: GodrayMethod::Footprint, ..triangles },
         // Not in the paper: its camera stays under the water.
         BenchConfig { name: "above-800", camera_above: true, paper_fps: "-", ..base.clone() },
         BenchConfig { name: "tiny", width: 96, height: 96, caustic_grid: 16, godray_grid: 8, paper_fps: "-", ..base },
@@ -223,5 +194,11 @@ mod tests {
         let refined = c.iter().find(|c| c.name == "refined-800").unwrap().apply(&tank);
         assert!(refined.effects.caustic_refinement);
         assert_eq!(refined.effects, Effects { caustic_refinement: true, ..triangles.effects });
+        // The godray configurations are triangles-800 with another godray method.
+        for (name, method) in [("marched-800", GodrayMethod::Marched), ("footprint-800", GodrayMethod::Footprint)] {
+            let applied = c.iter().find(|c| c.name == name).unwrap().apply(&tank);
+            assert_eq!(applied.effects, Effects { godray_method: method, ..triangles.effects }, "{name}");
+            assert_eq!(applied.output, triangles.output, "{name}");
+        }
     }
 }

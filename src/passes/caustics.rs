@@ -172,9 +172,10 @@ impl CausticsPass {
         // scene spreads its photons for the view; WATER_NEWTON_ONLY: it compiles only the
         // water search its rays take.
         let warps = effects.caustic_photon_density == PhotonSpread::View;
-        // REFINED_DRAW (3): off but in the refinement's second draw.
-        let specialization = [(0, subdivision), (1, warps as u32), (2, newton_crossing as u32), (3, 0)];
-        let refined_specialization = [(0, subdivision), (1, warps as u32), (2, newton_crossing as u32), (3, 1)];
+        let specialization = [(0, subdivision), (1, warps as u32), (2, newton_crossing as u32)];
+        // The refinement's second draw: the same, with REFINED_DRAW (3) on.
+        let [sub, warp, newton] = specialization;
+        let refined_specialization = [sub, warp, newton, (3, 1)];
         let set_layouts = [sets.layout];
         let compute = |name: &str, shader: &str| {
             shaders::compute_pipeline(
@@ -203,18 +204,25 @@ impl CausticsPass {
             set_layouts: &set_layouts,
             ..GraphicsPipelineDesc::new("caustics", vertex, "caustics.frag", target.render_pass.raw)
         };
+        // The triangles' draws: one invocation per coarse cell, their own fragment shader.
+        let triangle_pipeline = |name, geometry, specialization: &[(u32, u32)]| {
+            shaders::graphics_pipeline(
+                device,
+                &GraphicsPipelineDesc {
+                    name,
+                    fragment: "caustics_triangles.frag",
+                    specialization,
+                    ..points("photon_grid.vert", Some(geometry))
+                },
+            )
+        };
         let (pipeline, accumulation, splat_floor) = match path {
             // Recording, the triangles' photons go through the points' recording variant,
             // which numbers them over the triangles' grid (caustics.geom, PHOTON_DEBUG): the
             // flux budget counts the photons the triangles cast.
             PhotonPath::GeometryShader if triangles && !record_photons => {
                 let geometry = if refines { "caustics_triangles_refined.geom" } else { "caustics_triangles.geom" };
-                let desc = GraphicsPipelineDesc {
-                    name: "caustics triangles",
-                    fragment: "caustics_triangles.frag",
-                    ..points("photon_grid.vert", Some(geometry))
-                };
-                (shaders::graphics_pipeline(device, &desc)?, None, None)
+                (triangle_pipeline("caustics triangles", geometry, &specialization)?, None, None)
             }
             PhotonPath::GeometryShader => {
                 let geometry = if record_photons { "caustics_debug.geom" } else { "caustics.geom" };
@@ -264,14 +272,10 @@ impl CausticsPass {
                     let resource = Resource::Storage { buffer: buffer.raw, range: buffer.size };
                     sets.write_at(set, vec![(b::REFINED_CELLS as usize, resource)]);
                 }
-                let draw = shaders::graphics_pipeline(
-                    device,
-                    &GraphicsPipelineDesc {
-                        name: "caustics triangles refined",
-                        fragment: "caustics_triangles.frag",
-                        specialization: &refined_specialization,
-                        ..points("photon_grid.vert", Some("caustics_triangles_refined.geom"))
-                    },
+                let draw = triangle_pipeline(
+                    "caustics triangles refined",
+                    "caustics_triangles_refined.geom",
+                    &refined_specialization,
                 )?;
                 let kept = Attachment::new(&target.image, Load::Keep { layout: read }, Store::Keep, read);
                 let render_pass = RenderPass::new(device, "caustics refined", &[kept], None)?;
