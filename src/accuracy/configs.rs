@@ -226,9 +226,14 @@ mod tests {
                 (CausticEstimator::Triangles, true)
             ]
         );
-        // Empty: the scene's own.
-        let own = SweepAxes::default().scenes(&tank);
-        assert_eq!(own[0].effects.caustic_refinement, tank.effects.caustic_refinement);
+        // Empty: the scene's own, on or off.
+        let mut refined = tank.clone();
+        refined.effects.caustic_refinement = true;
+        for scene in [&tank, &refined] {
+            let own = SweepAxes::default().scenes(scene);
+            assert_eq!(own.len(), 1);
+            assert_eq!(own[0].effects.caustic_refinement, scene.effects.caustic_refinement);
+        }
     }
 
     #[test]
