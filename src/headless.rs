@@ -223,6 +223,15 @@ pub(crate) fn run_frames<P: TimedPass>(
     dt: f32,
     mut record: impl FnMut(&mut crate::vk::commands::FrameSlot<P>, f32, bool),
 ) -> Result<Vec<crate::vk::timing::PassTimings<P>>> {
+    // Every wave phase follows the clock: a NaN or infinite time would make every photon NaN
+    // and leave the effect buffers empty for a reason no diagnostic names.
+    let last = t0 + dt * frames.saturating_sub(1) as f32;
+    if !(t0.is_finite() && dt.is_finite() && last.is_finite()) {
+        return Err(crate::error::Error::InvalidParameter {
+            name: "time",
+            message: format!("the frames' times must be finite (first {t0} s, step {dt} s, last {last} s)"),
+        });
+    }
     let mut timings = Vec::with_capacity(frames as usize);
     for f in 0..frames {
         let slot = ring.begin()?;

@@ -30,6 +30,12 @@ fn bad_command_lines_are_named_errors() {
         (vec!["render".into(), "--camera=0,1,0".into(), "--look-at=0,1,0".into()], "the same point"),
         (vec!["view".into(), "--sweep".into(), "/nonexistent/sweep.json".into()], "--sweep /nonexistent/sweep.json"),
         (vec!["tune".into(), "--max-error=0".into()], "--max-error 0: must be a positive number"),
+        (vec!["render".into(), "--time=nan".into()], "--time <TIME>': must be a finite number of seconds"),
+        (vec!["view".into(), "--time".into(), "inf".into()], "must be a finite number of seconds (got inf)"),
+        (vec!["edges".into(), "--time=-inf".into()], "must be a finite number of seconds (got -inf)"),
+        (vec!["reference".into(), "--time".into(), "soon".into()], "\"soon\" is not a number of seconds"),
+        (vec!["sweep".into(), "--step=nan".into()], "--step <STEP>': must be a finite number of seconds"),
+        (vec!["grid-splat".into(), "--exposure".into(), "0".into()], "must be positive and finite (got 0)"),
     ];
     for (args, expected) in cases {
         let args: Vec<&str> = args.iter().map(String::as_str).collect();

@@ -173,6 +173,16 @@ fn water_from_flat_to_violent_and_late() {
         late_change < 3.0 * early_change + 0.05,
         "late frames flicker: {late_change} against {early_change} at t = 0"
     );
+    // A clock that is not finite is refused by name before a frame is recorded (it rendered
+    // empty effect buffers, reported as photons that reached no receiver). Past f32's range,
+    // a finite first time whose later frames overflow is refused as well.
+    let out = vk::Extent2D { width: late.output[0], height: late.output[1] };
+    let mut r = SceneRenderer::new(&ctx.device, &late, out).unwrap();
+    for (t0, dt, frames) in [(f32::NAN, 0.0, 1), (f32::INFINITY, 0.0, 1), (0.0, f32::NAN, 2), (f32::MAX, f32::MAX, 3)] {
+        let err = r.render(frames, t0, dt, true).err().unwrap_or_else(|| panic!("t0 {t0}, dt {dt} rendered"));
+        assert!(err.to_string().contains("invalid parameter time"), "t0 {t0}, dt {dt}: {err}");
+    }
+    drop(r);
     assert_clean_shutdown(ctx);
 }
 

@@ -21,7 +21,7 @@ pub(super) struct EdgesArgs {
     #[arg(long, value_parser = output_side)]
     height: Option<u32>,
     /// Animation time, seconds.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, value_parser = super::seconds, allow_hyphen_values = true)]
     time: f32,
     /// Scale the full-resolution frame's photon grids up by the targets' ratio per axis
     /// (godrays ×1/godray_target_scale, caustics ×1/caustic_target_scale), so its effect

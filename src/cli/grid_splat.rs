@@ -41,10 +41,10 @@ pub(super) struct RenderArgs {
     #[arg(long, default_value_t = 16)]
     frames: u32,
     /// Animation time of the first frame, seconds.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = super::seconds, allow_hyphen_values = true)]
     time: f32,
     /// Tonemap exposure.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, value_parser = super::exposure)]
     exposure: f32,
 }
 

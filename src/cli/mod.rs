@@ -94,6 +94,26 @@ fn output_side(text: &str) -> std::result::Result<u32, String> {
     Ok(v)
 }
 
+/// `--time` and `--step` values: finite seconds. A NaN or infinite clock reaches every wave
+/// phase, so the waves, and with them every photon, would be NaN: the frame would render with
+/// nothing in its effect buffers, reported as "no photon landed" for the wrong reason.
+fn seconds(text: &str) -> std::result::Result<f32, String> {
+    let v: f32 = text.trim().parse().map_err(|_| format!("{text:?} is not a number of seconds"))?;
+    if !v.is_finite() {
+        return Err(format!("must be a finite number of seconds (got {v})"));
+    }
+    Ok(v)
+}
+
+/// `grid-splat --exposure`: a positive, finite tonemap exposure.
+fn exposure(text: &str) -> std::result::Result<f32, String> {
+    let v: f32 = text.trim().parse().map_err(|_| format!("{text:?} is not a number"))?;
+    if !(v.is_finite() && v > 0.0) {
+        return Err(format!("must be positive and finite (got {v})"));
+    }
+    Ok(v)
+}
+
 /// `sweep --filter` values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 enum OnOff {

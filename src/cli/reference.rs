@@ -56,7 +56,7 @@ pub(super) struct ReferenceArgs {
     #[arg(long, value_parser = output_side)]
     height: Option<u32>,
     /// Animation time, seconds (the same default as `render`'s first frame).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, value_parser = super::seconds, allow_hyphen_values = true)]
     time: f32,
     /// Also trace twice the photons and beams (another seed) and print how much the buffers
     /// change: the reference's own error, which must stay below the errors it measures.

@@ -35,7 +35,7 @@ pub(super) struct SceneArgs {
     #[arg(long, default_value_t = 8)]
     frames: u32,
     /// Animation time of the first frame, seconds.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, value_parser = super::seconds, allow_hyphen_values = true)]
     time: f32,
     /// Print which passes the scene needs and why, then render.
     #[arg(long)]

@@ -64,9 +64,9 @@ pub(super) struct SweepArgs {
     #[arg(long, default_value_t = 2)]
     warmup: u32,
     /// Animation time, seconds, and the step to the next frame for the flicker figure.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, value_parser = super::seconds, allow_hyphen_values = true)]
     time: f32,
-    #[arg(long, default_value_t = 1.0 / 30.0)]
+    #[arg(long, default_value_t = 1.0 / 30.0, value_parser = super::seconds, allow_hyphen_values = true)]
     step: f32,
     /// Folder for sweep.csv, sweep.md, sweep.json and sweep.png.
     #[arg(long, default_value = "out/sweep")]

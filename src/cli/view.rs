@@ -28,7 +28,7 @@ pub(super) struct ViewArgs {
     #[arg(long, conflicts_with = "frames")]
     script: Option<String>,
     /// Animation time at start, seconds.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = super::seconds, allow_hyphen_values = true)]
     time: f32,
     /// Start with time paused (P toggles, N steps).
     #[arg(long)]
