@@ -36,6 +36,10 @@ fn bad_command_lines_are_named_errors() {
         (vec!["reference".into(), "--time".into(), "soon".into()], "\"soon\" is not a number of seconds"),
         (vec!["sweep".into(), "--step=nan".into()], "--step <STEP>': must be a finite number of seconds"),
         (vec!["grid-splat".into(), "--exposure".into(), "0".into()], "must be positive and finite (got 0)"),
+        (vec!["render".into(), "--frames".into(), "0".into()], "--frames <FRAMES>': must be at least 1"),
+        (vec!["sweep".into(), "--frames=0".into()], "must be at least 1"),
+        (vec!["grid-splat".into(), "--frames".into(), "2.5".into()], "\"2.5\" is not a whole number of frames"),
+        (vec!["sweep".into(), "--point-size".into(), "inf".into()], "--point-size inf is out of range"),
     ];
     for (args, expected) in cases {
         let args: Vec<&str> = args.iter().map(String::as_str).collect();

@@ -48,8 +48,12 @@ impl SweepAxes {
             ("--line-width", &self.line_width, 0.0, f32::INFINITY),
         ];
         for (name, values, lo, hi) in floats {
-            if let Some(v) = values.iter().find(|v| !(**v > lo && **v <= hi)) {
-                bail!("{name} {v} is out of range: must be > {lo} and ≤ {hi}");
+            // As in a scene file, NaN and ±inf fail every range (docs/limits.md).
+            if let Some(v) = values.iter().find(|v| !(v.is_finite() && **v > lo && **v <= hi)) {
+                if hi.is_finite() {
+                    bail!("{name} {v} is out of range: must be > {lo} and ≤ {hi}");
+                }
+                bail!("{name} {v} is out of range: must be positive and finite");
             }
         }
         Ok(())
@@ -205,6 +209,22 @@ mod tests {
         assert!(refused.contains("--godray-method marched needs a directional light"), "{refused}");
         assert_eq!(methods(&axes.scenes(&point)), [GodrayMethod::Beams; 3]);
         SweepAxes { godray_method: vec![GodrayMethod::Beams], ..axes }.validate_for(&point).unwrap();
+    }
+
+    #[test]
+    fn float_axes_refuse_what_a_scene_file_refuses() {
+        let refused = |axes: SweepAxes| axes.validate().unwrap_err().to_string();
+        let with_point = |v: f32| SweepAxes { point_size: vec![2.0, v], ..Default::default() };
+        // A scene file refuses NaN and ±inf in every field; the sweep's axes set the same fields.
+        assert!(refused(with_point(f32::INFINITY))
+            .contains("--point-size inf is out of range: must be positive and finite"));
+        assert!(refused(with_point(f32::NAN)).contains("--point-size NaN"));
+        assert!(refused(with_point(0.0)).contains("--point-size 0"));
+        let line = SweepAxes { line_width: vec![f32::INFINITY], ..Default::default() };
+        assert!(refused(line).contains("--line-width inf"));
+        let target = SweepAxes { target_scale: vec![5.0], ..Default::default() };
+        assert!(refused(target).contains("--target 5 is out of range: must be > 0 and ≤ 4"));
+        with_point(1e6).validate().unwrap();
     }
 
     #[test]

@@ -18,7 +18,7 @@ pub(super) struct BenchArgs {
     #[arg(long, default_value = "paper")]
     config: String,
     /// Measured frames per configuration.
-    #[arg(long, default_value_t = 30)]
+    #[arg(long, default_value_t = 30, value_parser = super::frame_count)]
     frames: u32,
     /// Frames rendered first and discarded (pipeline and cache warm-up).
     #[arg(long, default_value_t = 5)]

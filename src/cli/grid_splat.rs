@@ -38,7 +38,7 @@ pub(super) struct RenderArgs {
     #[arg(long, default_value_t = 1.3)]
     wave_amplitude: f32,
     /// Frames to render (timings are the median over them).
-    #[arg(long, default_value_t = 16)]
+    #[arg(long, default_value_t = 16, value_parser = super::frame_count)]
     frames: u32,
     /// Animation time of the first frame, seconds.
     #[arg(long, default_value_t = 0.0, value_parser = super::seconds, allow_hyphen_values = true)]

@@ -94,6 +94,16 @@ fn output_side(text: &str) -> std::result::Result<u32, String> {
     Ok(v)
 }
 
+/// `--frames` values: a whole number of frames, at least 1 (a command asked for none would
+/// otherwise render one and report it as the median of zero).
+fn frame_count(text: &str) -> std::result::Result<u32, String> {
+    let v: u32 = text.trim().parse().map_err(|_| format!("{text:?} is not a whole number of frames"))?;
+    if v == 0 {
+        return Err("must be at least 1".into());
+    }
+    Ok(v)
+}
+
 /// `--time` and `--step` values: finite seconds. A NaN or infinite clock reaches every wave
 /// phase, so the waves, and with them every photon, would be NaN: the frame would render with
 /// nothing in its effect buffers, reported as "no photon landed" for the wrong reason.

@@ -32,7 +32,7 @@ pub(super) struct SceneArgs {
     #[arg(long, value_parser = output_side)]
     height: Option<u32>,
     /// Frames to render (timings are the median over them).
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, default_value_t = 8, value_parser = super::frame_count)]
     frames: u32,
     /// Animation time of the first frame, seconds.
     #[arg(long, default_value_t = 1.0, value_parser = super::seconds, allow_hyphen_values = true)]
@@ -138,7 +138,7 @@ pub(super) fn run(cli: &Cli, args: &SceneArgs) -> Result<i32> {
             e.caustic[1],
             e.light_map
         );
-        let rendered = renderer.render(args.frames.max(1), args.time, 1.0 / 60.0, true)?;
+        let rendered = renderer.render(args.frames, args.time, 1.0 / 60.0, true)?;
         if renderer.frame.photon_surveys > 0 {
             println!(
                 "photon survey (CPU, where the view wants the photons): {:.1} ms",

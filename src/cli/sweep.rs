@@ -59,7 +59,7 @@ pub(super) struct SweepArgs {
     #[arg(long, value_delimiter = ',', value_enum)]
     refinement: Vec<OnOff>,
     /// Timed frames per setting (median) and warm-up frames.
-    #[arg(long, default_value_t = 5)]
+    #[arg(long, default_value_t = 5, value_parser = super::frame_count)]
     frames: u32,
     #[arg(long, default_value_t = 2)]
     warmup: u32,
