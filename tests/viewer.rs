@@ -2,22 +2,27 @@
 //! session (resize, minimise/restore, toggles, water switch, camera moves, presets) presents
 //! exactly the frames it should and exits with zero validation messages; its screenshot
 //! matches the headless renderer's image of the same scene, camera and time; a camera moved
-//! through the waterline renders from both sides; without a display it fails with a clear
-//! message.
+//! through the waterline renders from both sides; a script that ends with the window
+//! minimised exits; without a display it fails with a clear message.
 
 use std::path::Path;
 use std::process::{Command, Output};
 
 const EXE: &str = env!("CARGO_BIN_EXE_underlight");
 
+/// The longest a session may run: a viewer that never exits (a script that could not end)
+/// fails the test instead of holding the suite.
+const SESSION_TIMEOUT_S: &str = "600";
+
 fn under_xvfb(args: &[&str]) -> Output {
-    let out = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1280x1024x24", EXE, "--validation"])
+    let out = Command::new("timeout")
+        .args([SESSION_TIMEOUT_S, "xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", EXE, "--validation"])
         .args(args)
         .output()
         .unwrap_or_else(|e| panic!("cannot run xvfb-run ({e}); install it with: apt-get install xvfb"));
     let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
-    assert!(out.status.success(), "viewer failed ({}):\n{text}", out.status);
+    let timed_out = if out.status.code() == Some(124) { ", timed out" } else { "" };
+    assert!(out.status.success(), "viewer failed ({}{timed_out}): {args:?}\n{text}", out.status);
     assert!(!text.contains("validation:"), "validation messages:\n{text}");
     out
 }
@@ -197,6 +202,17 @@ fn viewer_sessions_under_xvfb() {
         assert_eq!(count(pass), above, "{pass} should run in the {above} timed frames above the water: {counts}");
     }
     assert_eq!(png_rgba(&crossing).0, 96, "the screenshot above the water");
+
+    // 5. Scripts that end while the window has no area: the frames asked for while minimised
+    //    or with a side of zero are counted, not presented, and the viewer exits (it waited
+    //    for a presented frame before, and never exited).
+    for (script, presented) in
+        [("frames:1,minimize,frames:2", 1), ("frames:1,resize:0x10,frames:1", 1), ("minimize", 0)]
+    {
+        let out = under_xvfb(&["view", "--scene", "tank", "--width", "48", "--height", "32", "--script", script]);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(stdout.contains(&format!("presented {presented} frames")), "{script}: {stdout}");
+    }
     std::fs::remove_dir_all(&dir).ok();
 }
 

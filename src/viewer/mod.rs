@@ -196,14 +196,16 @@ impl ApplicationHandler for App {
                 Ok(())
             }
             WindowEvent::RedrawRequested => match live.redraw(&self.options) {
-                Ok(Some(presented)) => {
-                    self.presented += presented as u64;
+                Ok(presented) => {
+                    self.presented += presented.unwrap_or(false) as u64;
+                    // Checked after a skipped frame too: a script that ends while the window
+                    // has no area (minimised, or resized to a zero side) counts its frames
+                    // there, and waited for ever when only presented frames could end it.
                     if live.finished(&self.options) {
                         event_loop.exit();
                     }
                     Ok(())
                 }
-                Ok(None) => Ok(()),
                 Err(e) => Err(e),
             },
             _ => Ok(()),
