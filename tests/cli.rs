@@ -11,6 +11,9 @@ fn run(args: &[&str]) -> (i32, String) {
 fn bad_command_lines_are_named_errors() {
     let dir = std::env::temp_dir().join(format!("underlight-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
+    // A file where a command wants an output folder.
+    let file = std::env::temp_dir().join(format!("underlight-cli-file-{}", std::process::id()));
+    std::fs::write(&file, b"").unwrap();
     let cases: Vec<(Vec<String>, &str)> = vec![
         (vec!["render".into(), "--scene".into(), "lagoon".into()], "tank, port, storage"),
         (vec!["render".into(), "--out".into(), "/proc/underlight.png".into()], "cannot"),
@@ -40,6 +43,17 @@ fn bad_command_lines_are_named_errors() {
         (vec!["sweep".into(), "--frames=0".into()], "must be at least 1"),
         (vec!["grid-splat".into(), "--frames".into(), "2.5".into()], "\"2.5\" is not a whole number of frames"),
         (vec!["sweep".into(), "--point-size".into(), "inf".into()], "--point-size inf is out of range"),
+        (vec!["reference".into(), "--out".into(), file.display().to_string()], "is a file: give a folder"),
+        (vec!["render".into(), "--hdr".into(), file.display().to_string()], "is a file: give a folder"),
+        (
+            vec!["sweep".into(), "--out".into(), "/proc/underlight".into()],
+            "output folder /proc/underlight: cannot create it",
+        ),
+        // Checked before the minutes of measuring, not after.
+        (
+            vec!["tune".into(), "--max-error".into(), "0.5".into(), "--write".into(), dir.display().to_string()],
+            "is a directory",
+        ),
     ];
     for (args, expected) in cases {
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
@@ -49,6 +63,8 @@ fn bad_command_lines_are_named_errors() {
         assert!(stderr.contains(expected), "{args:?}: the error does not say {expected:?}:\n{stderr}");
     }
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0, "a failed command left files behind");
+    assert_eq!(std::fs::read(&file).unwrap().len(), 0, "a failed command wrote into a file it was given as a folder");
+    std::fs::remove_file(&file).ok();
     std::fs::remove_dir_all(&dir).ok();
 }
 

@@ -3,7 +3,7 @@
 //! output's resolution; the composed images are compared near the strongest edges and overall
 //! (`metrics::edge_error`, docs/accuracy.md).
 
-use super::{context_desc, output_side, prepare_outputs, Cli};
+use super::{context_desc, output_side, prepare_output_dir, Cli};
 use anyhow::Result;
 use std::path::PathBuf;
 use underlight::headless::SceneRenderer;
@@ -46,7 +46,7 @@ pub(super) fn run(cli: &Cli, args: &EdgesArgs) -> Result<i32> {
     let extent =
         vk::Extent2D { width: args.width.unwrap_or(scene.output[0]), height: args.height.unwrap_or(scene.output[1]) };
     if let Some(dir) = &args.out_dir {
-        prepare_outputs([&dir.join("x")])?;
+        prepare_output_dir(dir)?;
     }
     let ctx = Context::new(&context_desc(cli))?;
     println!("device: {}", ctx.device.info.describe());

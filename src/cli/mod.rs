@@ -167,8 +167,6 @@ fn godray_method(name: &str) -> std::result::Result<underlight::scene::GodrayMet
     })
 }
 
-/// Creates the parent folder of each output path up front, so a bad path fails before any
-/// GPU work.
 /// Makes the outputs' folders and checks each output can be written there, before any
 /// rendering: a wrong path fails in a second, not after the frames, and leaves nothing behind.
 fn prepare_outputs<'a>(paths: impl IntoIterator<Item = &'a PathBuf>) -> Result<()> {
@@ -184,6 +182,19 @@ fn prepare_outputs<'a>(paths: impl IntoIterator<Item = &'a PathBuf>) -> Result<(
             .with_context(|| format!("output {}: cannot write in {}", path.display(), dir.display()))?;
         std::fs::remove_file(&probe).ok();
     }
+    Ok(())
+}
+
+/// The same for an output folder (`--out DIR`, `--hdr DIR`): made, and checked writable, before
+/// any rendering. A file in its place is named as such.
+fn prepare_output_dir(dir: &std::path::Path) -> Result<()> {
+    if dir.exists() && !dir.is_dir() {
+        bail!("output folder {} is a file: give a folder", dir.display());
+    }
+    std::fs::create_dir_all(dir).with_context(|| format!("output folder {}: cannot create it", dir.display()))?;
+    let probe = dir.join(format!(".underlight-write-check-{}", std::process::id()));
+    std::fs::write(&probe, b"").with_context(|| format!("output folder {}: cannot write in it", dir.display()))?;
+    std::fs::remove_file(&probe).ok();
     Ok(())
 }
 

@@ -2,7 +2,7 @@
 //! reference's own settings (which `sweep` shares).
 
 use super::{effect_png_exposure, output_side};
-use anyhow::{Context as _, Result};
+use anyhow::Result;
 use std::path::PathBuf;
 use underlight::image_io;
 
@@ -69,7 +69,7 @@ pub(super) struct ReferenceArgs {
 pub(super) fn run(args: &ReferenceArgs) -> Result<i32> {
     let scene = underlight::scene::load(&args.scene)?;
     let output = [args.width.unwrap_or(scene.output[0]), args.height.unwrap_or(scene.output[1])];
-    std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+    super::prepare_output_dir(&args.out)?;
     // The device's point and line limits do not enter the reference.
     let extents = underlight::frame::target_extents(&scene, output, f32::INFINITY, f32::INFINITY);
     let started = std::time::Instant::now();

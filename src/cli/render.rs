@@ -5,7 +5,7 @@ use super::{
     caustic_estimator, context_desc, effect_png_exposure, finish, godray_method, output_side, photon_spread,
     prepare_outputs, Cli,
 };
-use anyhow::{bail, Context as _, Result};
+use anyhow::{bail, Result};
 use std::path::PathBuf;
 use underlight::headless;
 use underlight::image_io;
@@ -114,7 +114,7 @@ pub(super) fn run(cli: &Cli, args: &SceneArgs) -> Result<i32> {
     let height = args.height.unwrap_or(scene.output[1]);
     prepare_outputs([&args.out])?;
     if let Some(dir) = &args.hdr {
-        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+        super::prepare_output_dir(dir)?;
     }
     let plan = underlight::frame::FramePlan::for_scene(&scene);
     if args.explain {

@@ -99,7 +99,7 @@ pub(super) fn run(cli: &Cli, args: &SweepArgs) -> Result<i32> {
     };
     axes.validate()?;
     axes.validate_for(&scene)?;
-    std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+    super::prepare_output_dir(&args.out)?;
     let ctx = Context::new(&context_desc(cli))?;
     println!("device: {}", ctx.device.info.describe());
     let spec = accuracy::SweepSpec {

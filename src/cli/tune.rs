@@ -76,7 +76,9 @@ pub(super) fn run(cli: &Cli, args: &TuneArgs) -> Result<i32> {
             ..Default::default()
         },
     ];
-    std::fs::create_dir_all(&args.out).with_context(|| format!("creating {}", args.out.display()))?;
+    // The scene file it writes at the end, checked before the minutes of measuring.
+    super::prepare_outputs(args.write.iter())?;
+    super::prepare_output_dir(&args.out)?;
     let ctx = Context::new(&context_desc(cli))?;
     println!("device: {}", ctx.device.info.describe());
     let mut rows = Vec::new();
