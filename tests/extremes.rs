@@ -183,6 +183,12 @@ fn water_from_flat_to_violent_and_late() {
         assert!(err.to_string().contains("invalid parameter time"), "t0 {t0}, dt {dt}: {err}");
     }
     drop(r);
+    // A scene built in code with a NaN amplitude is refused by name before any GPU work, as
+    // a scene file's is (`Scene::validate`).
+    let mut nan = late.clone();
+    nan.water.amplitude = f32::NAN;
+    let err = SceneRenderer::new(&ctx.device, &nan, out).err().expect("a NaN amplitude was rendered");
+    assert!(err.to_string().contains("water.amplitude = NaN is out of range"), "{err}");
     assert_clean_shutdown(ctx);
 }
 

@@ -422,6 +422,8 @@ impl Frame {
         output_layout: vk::ImageLayout,
         options: FrameOptions,
     ) -> Result<Self> {
+        // A scene built in code meets the ranges a scene file is held to (`Scene::validate`).
+        scene.validate()?;
         let plan = FramePlan::new(scene, options.camera_moves);
         let extents = frame_extents(scene, output, device);
         let clamped = device_clamps(scene, &plan, device);

@@ -75,6 +75,8 @@ pub fn render(
     settings: &ReferenceSettings,
     progress: &(dyn Fn(f64) + Sync),
 ) -> Result<ReferenceImages> {
+    // As the GPU's frame does (`Frame::new`): a scene built in code meets a scene file's ranges.
+    scene.validate()?;
     let plan = FramePlan::for_scene(scene);
     let (want_caustics, want_godrays) = (plan.runs(PassId::Caustics), plan.runs(PassId::Godrays));
     validate(time, extents, settings, want_caustics, want_godrays)?;

@@ -664,14 +664,7 @@ impl SceneFile {
         let water = self.water.validate(ctx)?;
         let medium = self.medium.map_or(Ok(Medium::default()), |m| m.validate(ctx))?;
         let effects = self.effects.map_or(Ok(Effects::default()), |e| e.validate(ctx))?;
-        // The ray march lights each step through the flat surface along one direction, which a
-        // point light does not have.
-        if effects.godray_method == GodrayMethod::Marched && light.kind == LightKind::Point {
-            return Err(ctx.error(
-                "effects.godray_method",
-                "= \"marched\" needs a directional light, and light.kind is \"point\": use godray_method = \"beams\" with a point light",
-            ));
-        }
+        marched_needs_a_directional_light(ctx, &effects, &light)?;
         if self.objects.is_empty() {
             return Err(ctx.error("objects", "is empty: a scene needs at least one [[objects]] entry"));
         }
@@ -684,6 +677,18 @@ impl SceneFile {
         }
         Ok(Scene { name: self.name, output, camera, light, water, medium, effects, meshes })
     }
+}
+
+/// The ray march lights each step through the flat surface along one direction, which a
+/// point light does not have.
+fn marched_needs_a_directional_light(ctx: &Context, effects: &Effects, light: &Light) -> Result<()> {
+    if effects.godray_method == GodrayMethod::Marched && light.kind == LightKind::Point {
+        return Err(ctx.error(
+            "effects.godray_method",
+            "= \"marched\" needs a directional light, and light.kind is \"point\": use godray_method = \"beams\" with a point light",
+        ));
+    }
+    Ok(())
 }
 
 impl ObjectFile {
@@ -951,7 +956,7 @@ impl EffectsFile {
                 return Err(ctx.error(
                     &format!("effects.{kind}_subdivision"),
                     format_args!(
-                        "= {value} is out of range for effects.{setting} = \"{name}\": must be <= {max} (the geometry shader's output limit)"
+                        "= {value} is out of range for effects.{setting} = \"{name}\": must be <= {max} (the geometry shader's output limit: 1..={max} per axis)"
                     ),
                 ));
             }
@@ -978,9 +983,175 @@ impl EffectsFile {
     }
 }
 
+// ---------------------------------------------------------------------------------------------
+// A scene built in code (`Scene { .. }`, the library's users and the tests) is held to the
+// ranges a scene file is, by the same checks: its sections are written back into the file's
+// shape and validated as a file's would be, so the ranges live in one place. Errors name the
+// field as a file would, with the scene's name where a file's line would be.
+
+impl Scene {
+    /// Checks every field against the ranges `docs/limits.md` lists (what `load` checks in a
+    /// scene file), and the meshes: finite positions and normals, one normal per position,
+    /// whole triangles whose indices are in range, at least one triangle. `Frame::new` and the
+    /// reference call it, so a NaN amplitude or a subdivision past the geometry shader's limit
+    /// set in code is a named error, not a frame of NaN or an empty buffer.
+    pub fn validate(&self) -> crate::error::Result<()> {
+        self.check_ranges()
+            .map_err(|e| crate::error::Error::InvalidParameter { name: "scene", message: format!("{e:#}") })
+    }
+
+    fn check_ranges(&self) -> Result<()> {
+        let origin = PathBuf::from(format!("{:?} (built in code)", self.name));
+        let doc = ImDocument::parse("").expect("an empty document parses");
+        let ctx = Context { text: "", origin: &origin, doc };
+        if self.name.trim().is_empty() {
+            return Err(ctx.error("name", "is empty: give the scene a name"));
+        }
+        ctx.int("output.width", self.output[0], 1, 16384)?;
+        ctx.int("output.height", self.output[1], 1, 16384)?;
+        let v3 = |v: Vec3| v.to_array().map(f64::from);
+        let v2 = |v: Vec2| v.to_array().map(f64::from);
+        let c = &self.camera;
+        CameraFile {
+            position: v3(c.position),
+            look_at: v3(c.look_at),
+            fov_y_degrees: c.fov_y_degrees.into(),
+            z_near: c.z_near.into(),
+            z_far: c.z_far.into(),
+        }
+        .validate(&ctx)?;
+        let l = &self.light;
+        let directional = l.kind == LightKind::Directional;
+        LightFile {
+            kind: if directional { LightKindFile::Directional } else { LightKindFile::Point },
+            direction: directional.then(|| v3(l.direction)),
+            position: (!directional).then(|| v3(l.position)),
+            intensity: l.intensity.into(),
+            distance: directional.then_some(l.distance.into()),
+        }
+        .validate(&ctx)?;
+        let w = &self.water;
+        WaterFile {
+            model: match w.model {
+                WaterModel::CircularCosine => WaterModelFile::CircularCosine,
+                WaterModel::AxisCosineNoise => WaterModelFile::AxisCosineNoise,
+            },
+            level: w.level.into(),
+            amplitude: w.amplitude.into(),
+            wavelength: w.wavelength.into(),
+            speed: w.speed.into(),
+            noise_amplitude: w.noise_amplitude.into(),
+            noise_scale: w.noise_scale.into(),
+            center: Some(v2(w.center)),
+            extent_min: v2(w.extent_min),
+            extent_max: v2(w.extent_max),
+            ior: Some(w.ior.into()),
+        }
+        .validate(&ctx)?;
+        let m = &self.medium;
+        MediumFile {
+            gamma: Some(Gamma::Rgb(v3(m.gamma))),
+            scattering: Some(m.scattering.into()),
+            hg_g: Some(m.hg_g.into()),
+        }
+        .validate(&ctx)?;
+        let e = &self.effects;
+        let spread = |s: PhotonSpread| match s {
+            PhotonSpread::Even => PhotonSpreadFile::Even,
+            PhotonSpread::View => PhotonSpreadFile::View,
+        };
+        EffectsFile {
+            caustics: Some(e.caustics),
+            godrays: Some(e.godrays),
+            filter: Some(e.filter),
+            caustic_estimator: Some(match e.caustic_estimator {
+                CausticEstimator::Paper => CausticEstimatorFile::Paper,
+                CausticEstimator::Triangles => CausticEstimatorFile::Triangles,
+            }),
+            caustic_grid: Some(e.caustic_grid),
+            caustic_subdivision: Some(e.caustic_subdivision),
+            caustic_photon_density: Some(spread(e.caustic_photon_density)),
+            caustic_refinement: Some(e.caustic_refinement),
+            photon_jitter: Some(e.photon_jitter),
+            godray_method: Some(match e.godray_method {
+                GodrayMethod::Beams => GodrayMethodFile::Beams,
+                GodrayMethod::Footprint => GodrayMethodFile::Footprint,
+                GodrayMethod::Marched => GodrayMethodFile::Marched,
+            }),
+            godray_photon_density: Some(spread(e.godray_photon_density)),
+            godray_grid: Some(e.godray_grid),
+            godray_subdivision: Some(e.godray_subdivision),
+            caustic_target_scale: Some(e.caustic_target_scale.into()),
+            godray_target_scale: Some(e.godray_target_scale.into()),
+            point_size_min: Some(e.point_size_min.into()),
+            point_size_max: Some(e.point_size_max.into()),
+            line_width: Some(e.line_width.into()),
+            iterations: Some(e.iterations),
+            shadow_map_size: Some(e.shadow_map_size),
+        }
+        .validate(&ctx)?;
+        marched_needs_a_directional_light(&ctx, e, l)?;
+        for (i, mesh) in self.meshes.iter().enumerate() {
+            let field = format!("meshes[{i}] ({:?})", mesh.name);
+            let n = mesh.positions.len();
+            if let Some(p) = mesh.positions.iter().find(|p| !p.is_finite()) {
+                return Err(ctx.error(&field, format_args!("has a position that is not finite: {p}")));
+            }
+            if mesh.normals.len() != n || mesh.normals.iter().any(|v| !v.is_finite()) {
+                return Err(ctx.error(&field, format_args!("needs {n} finite normals, one per position")));
+            }
+            if mesh.indices.len() % 3 != 0 {
+                return Err(ctx.error(&field, format_args!("has {} indices: not whole triangles", mesh.indices.len())));
+            }
+            if let Some(k) = mesh.indices.iter().find(|k| **k as usize >= n) {
+                return Err(ctx.error(&field, format_args!("index {k} is out of range: {n} positions")));
+            }
+        }
+        if self.meshes.iter().all(|m| m.indices.is_empty()) {
+            return Err(ctx.error("meshes", "contain no triangles"));
+        }
+        Ok(())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_scene_built_in_code_meets_the_files_ranges() {
+        let tank = load("tank").unwrap();
+        tank.validate().unwrap();
+        let refused = |edit: &dyn Fn(&mut Scene), expected: &str| {
+            let mut s = tank.clone();
+            edit(&mut s);
+            let e = s.validate().expect_err(expected).to_string();
+            assert!(e.contains(expected), "{e}");
+            assert!(e.contains("\"tank\" (built in code)"), "{e}");
+        };
+        refused(&|s| s.water.amplitude = f32::NAN, "water.amplitude = NaN is out of range: must be >= 0");
+        refused(&|s| s.water.ior = 1.0, "water.ior = 1 is out of range");
+        refused(&|s| s.light.direction = Vec3::Y, "light.direction = [0, 1, 0] is out of range: must point downwards");
+        refused(&|s| s.camera.z_far = s.camera.z_near, "camera.z_far");
+        refused(&|s| s.medium.hg_g = 1.0, "medium.hg_g = 1 is out of range");
+        refused(&|s| s.output = [0, 10], "output.width = 0 is out of range");
+        refused(
+            &|s| s.effects.caustic_subdivision = crate::shader_abi::limits::MAX_SUBDIVISION,
+            "is out of range for effects.caustic_estimator = \"triangles\"",
+        );
+        refused(&|s| s.effects.point_size_max = f32::INFINITY, "effects.point_size_max = inf");
+        refused(
+            &|s| {
+                s.light.kind = LightKind::Point;
+                s.effects.godray_method = GodrayMethod::Marched;
+            },
+            "needs a directional light",
+        );
+        refused(&|s| s.meshes[0].indices[0] = 1 << 30, "index 1073741824 is out of range");
+        refused(&|s| s.meshes[0].positions[0].x = f32::INFINITY, "has a position that is not finite");
+        refused(&|s| s.meshes[0].normals.clear(), "finite normals, one per position");
+        refused(&|s| s.meshes.iter_mut().for_each(|m| m.indices.clear()), "meshes contain no triangles");
+    }
 
     #[test]
     fn assets_dir_prefers_the_override() {
