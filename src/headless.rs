@@ -212,6 +212,20 @@ impl SceneRenderer {
     }
 }
 
+/// Every wave phase follows the clock: a NaN or infinite time would make every photon NaN and
+/// leave the effect buffers empty for a reason no diagnostic names. Checks the times of
+/// `frames` frames from `t0` in steps of `dt` (the viewer's, from its start time).
+pub(crate) fn check_clock(t0: f32, dt: f32, frames: u32) -> Result<()> {
+    let last = t0 + dt * frames.saturating_sub(1) as f32;
+    if !(t0.is_finite() && dt.is_finite() && last.is_finite()) {
+        return Err(crate::error::Error::InvalidParameter {
+            name: "time",
+            message: format!("the frames' times must be finite (first {t0} s, step {dt} s, last {last} s)"),
+        });
+    }
+    Ok(())
+}
+
 /// Renders `frames` frames (time `t0 + k·dt`) through the ring of frames in flight; `record`
 /// records one into its slot (the bool: it is the last). Returns each frame's per-pass GPU
 /// times, in frame order. Headless measurement collects every frame's table, so this
@@ -223,15 +237,7 @@ pub(crate) fn run_frames<P: TimedPass>(
     dt: f32,
     mut record: impl FnMut(&mut crate::vk::commands::FrameSlot<P>, f32, bool),
 ) -> Result<Vec<crate::vk::timing::PassTimings<P>>> {
-    // Every wave phase follows the clock: a NaN or infinite time would make every photon NaN
-    // and leave the effect buffers empty for a reason no diagnostic names.
-    let last = t0 + dt * frames.saturating_sub(1) as f32;
-    if !(t0.is_finite() && dt.is_finite() && last.is_finite()) {
-        return Err(crate::error::Error::InvalidParameter {
-            name: "time",
-            message: format!("the frames' times must be finite (first {t0} s, step {dt} s, last {last} s)"),
-        });
-    }
+    check_clock(t0, dt, frames)?;
     let mut timings = Vec::with_capacity(frames as usize);
     for f in 0..frames {
         let slot = ring.begin()?;

@@ -47,12 +47,12 @@ fn bad_command_lines_are_named_errors() {
         (vec!["render".into(), "--hdr".into(), file.display().to_string()], "is a file: give a folder"),
         (
             vec!["sweep".into(), "--out".into(), "/proc/underlight".into()],
-            "output folder /proc/underlight: cannot create it",
+            "output folder: cannot create /proc/underlight",
         ),
         // Checked before the minutes of measuring, not after.
         (
             vec!["tune".into(), "--max-error".into(), "0.5".into(), "--write".into(), dir.display().to_string()],
-            "is a directory",
+            "is a directory: give a file name",
         ),
     ];
     for (args, expected) in cases {

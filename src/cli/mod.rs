@@ -16,6 +16,8 @@ use anyhow::{bail, Context as _, Result};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use underlight::vk::{Context, ContextDesc};
+// The largest output side a command accepts: a scene file's (docs/limits.md).
+use underlight::scene::file::MAX_OUTPUT_SIDE;
 
 #[derive(Parser)]
 #[command(name = "underlight", version, about = "Real-time underwater caustics and godrays (Vulkan)")]
@@ -81,9 +83,6 @@ pub(crate) fn run(cli: Cli) -> Result<i32> {
         Command::Tune(args) => tune::run(&cli, args),
     }
 }
-
-/// The largest output side a command accepts (as a scene file's `output`: docs/limits.md).
-const MAX_OUTPUT_SIDE: u32 = 16384;
 
 /// `--width` / `--height` values: whole pixels, at least 1.
 fn output_side(text: &str) -> std::result::Result<u32, String> {
@@ -175,13 +174,17 @@ fn prepare_outputs<'a>(paths: impl IntoIterator<Item = &'a PathBuf>) -> Result<(
             bail!("output {} is a directory: give a file name", path.display());
         }
         let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("output {}: cannot create {}", path.display(), dir.display()))?;
-        let probe = dir.join(format!(".underlight-write-check-{}", std::process::id()));
-        std::fs::write(&probe, b"")
-            .with_context(|| format!("output {}: cannot write in {}", path.display(), dir.display()))?;
-        std::fs::remove_file(&probe).ok();
+        writable_folder(dir, &format!("output {}", path.display()))?;
     }
+    Ok(())
+}
+
+/// Makes `dir` and checks a file can be written in it; errors begin with `what`.
+fn writable_folder(dir: &std::path::Path, what: &str) -> Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("{what}: cannot create {}", dir.display()))?;
+    let probe = dir.join(format!(".underlight-write-check-{}", std::process::id()));
+    std::fs::write(&probe, b"").with_context(|| format!("{what}: cannot write in {}", dir.display()))?;
+    std::fs::remove_file(&probe).ok();
     Ok(())
 }
 
@@ -191,11 +194,7 @@ fn prepare_output_dir(dir: &std::path::Path) -> Result<()> {
     if dir.exists() && !dir.is_dir() {
         bail!("output folder {} is a file: give a folder", dir.display());
     }
-    std::fs::create_dir_all(dir).with_context(|| format!("output folder {}: cannot create it", dir.display()))?;
-    let probe = dir.join(format!(".underlight-write-check-{}", std::process::id()));
-    std::fs::write(&probe, b"").with_context(|| format!("output folder {}: cannot write in it", dir.display()))?;
-    std::fs::remove_file(&probe).ok();
-    Ok(())
+    writable_folder(dir, "output folder")
 }
 
 fn finish(ctx: Context) -> i32 {

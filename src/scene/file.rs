@@ -649,15 +649,27 @@ fn list(v: &[f32]) -> String {
     format!("[{}]", parts.join(", "))
 }
 
+/// The largest output side a scene (or a command's `--width`, `--height`) asks for.
+pub const MAX_OUTPUT_SIDE: u32 = 16384;
+
+/// The scene's name and output size, as a file's `name` and `[output]` or a scene built in code.
+fn check_name_and_output(ctx: &Context, name: &str, output: [u32; 2]) -> Result<[u32; 2]> {
+    if name.trim().is_empty() {
+        return Err(ctx.error("name", "is empty: give the scene a name"));
+    }
+    Ok([
+        ctx.int("output.width", output[0], 1, MAX_OUTPUT_SIDE)?,
+        ctx.int("output.height", output[1], 1, MAX_OUTPUT_SIDE)?,
+    ])
+}
+
 impl SceneFile {
     fn validate(self, ctx: &Context) -> Result<Scene> {
-        if self.name.trim().is_empty() {
-            return Err(ctx.error("name", "is empty: give the scene a name"));
-        }
-        let output = match &self.output {
-            Some(o) => [ctx.int("output.width", o.width, 1, 16384)?, ctx.int("output.height", o.height, 1, 16384)?],
-            None => DEFAULT_OUTPUT,
-        };
+        let output = check_name_and_output(
+            ctx,
+            &self.name,
+            self.output.as_ref().map_or(DEFAULT_OUTPUT, |o| [o.width, o.height]),
+        )?;
         // Cheap checks first, so that a typo in the camera does not wait for mesh loading.
         let camera = self.camera.validate(ctx)?;
         let light = self.light.validate(ctx)?;
@@ -1004,11 +1016,7 @@ impl Scene {
         let origin = PathBuf::from(format!("{:?} (built in code)", self.name));
         let doc = ImDocument::parse("").expect("an empty document parses");
         let ctx = Context { text: "", origin: &origin, doc };
-        if self.name.trim().is_empty() {
-            return Err(ctx.error("name", "is empty: give the scene a name"));
-        }
-        ctx.int("output.width", self.output[0], 1, 16384)?;
-        ctx.int("output.height", self.output[1], 1, 16384)?;
+        check_name_and_output(&ctx, &self.name, self.output)?;
         let v3 = |v: Vec3| v.to_array().map(f64::from);
         let v2 = |v: Vec2| v.to_array().map(f64::from);
         let c = &self.camera;

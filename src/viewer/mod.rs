@@ -23,7 +23,7 @@ use crate::passes::PassId;
 use crate::scene::Scene;
 use crate::vk::swapchain::{PresentMode, Surface, Swapchain};
 use crate::vk::{Context, ContextDesc, ShutdownReport};
-use anyhow::{anyhow, bail, Context as _, Result};
+use anyhow::{anyhow, Context as _, Result};
 use ash::vk;
 use camera::FlyCamera;
 use input::Input;
@@ -71,10 +71,7 @@ pub struct ViewerReport {
 /// Opens the window and runs until it is closed, Esc is pressed, or the script or frame
 /// count ends.
 pub fn run(options: ViewerOptions) -> Result<ViewerReport> {
-    // The clock drives every wave phase (headless::run_frames checks the same).
-    if !options.time.is_finite() {
-        bail!("the viewer's start time must be a finite number of seconds (got {})", options.time);
-    }
+    crate::headless::check_clock(options.time, 0.0, 1)?;
     let event_loop = EventLoop::new().map_err(|e| {
         anyhow!("cannot open a window: {e}. Is there a display? (set DISPLAY, or run under `xvfb-run -a`)")
     })?;
