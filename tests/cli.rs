@@ -43,6 +43,8 @@ fn bad_command_lines_are_named_errors() {
         (vec!["sweep".into(), "--frames=0".into()], "must be at least 1"),
         (vec!["grid-splat".into(), "--frames".into(), "2.5".into()], "\"2.5\" is not a whole number of frames"),
         (vec!["sweep".into(), "--point-size".into(), "inf".into()], "--point-size inf is out of range"),
+        (vec!["reference".into(), "--threads".into(), "100000".into()], "must be at most 256 (got 100000"),
+        (vec!["sweep".into(), "--threads=-1".into()], "\"-1\" is not a whole number of threads"),
         (vec!["reference".into(), "--out".into(), file.display().to_string()], "is a file: give a folder"),
         (vec!["render".into(), "--hdr".into(), file.display().to_string()], "is a file: give a folder"),
         (

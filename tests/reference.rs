@@ -13,7 +13,7 @@ use glam::{DVec2, DVec3, DVec4, Mat4, Vec2, Vec3};
 use underlight::frame::uniforms::{directional_irradiance, FrameExtents, FrameUniforms};
 use underlight::image_io::HdrImage;
 use underlight::metrics::buffer_error;
-use underlight::reference::{render, ReferenceImages, ReferenceSettings};
+use underlight::reference::{render, ReferenceImages, ReferenceSettings, MAX_THREADS};
 use underlight::scene::{Light, LightKind, Scene};
 use underlight::shader_math::{fresnel_transmittance, henyey_greenstein, water_phase};
 
@@ -681,10 +681,13 @@ fn from_above_the_water_the_surface_hides_both_buffers() {
 }
 
 #[test]
-fn zero_photons_is_an_error_not_a_panic() {
+fn zero_photons_or_too_many_threads_is_an_error_not_a_panic() {
     let scene = pool(0.0);
     let ext = extents([32, 32], [16, 16], [8, 8]);
-    for (s, what) in [(settings(0, 1000), "caustic_photons"), (settings(1000, 0), "godray_beams")] {
+    let too_many_threads = ReferenceSettings { threads: MAX_THREADS + 1, ..settings(10, 10) };
+    for (s, what) in
+        [(settings(0, 1000), "caustic_photons"), (settings(1000, 0), "godray_beams"), (too_many_threads, "threads")]
+    {
         match render(&scene, 0.0, &ext, &s, &|_| {}) {
             Err(e) => {
                 let message = e.to_string();

@@ -17,14 +17,25 @@ pub(super) struct ReferenceOptions {
     /// Godray beams the reference traces.
     #[arg(long, default_value_t = 1_000_000)]
     beams: u64,
-    /// Worker threads (0: all cores).
-    #[arg(long, default_value_t = 0)]
+    /// Worker threads (0: all cores), at most 256.
+    #[arg(long, default_value_t = 0, value_parser = thread_count)]
     threads: usize,
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Where reference buffers are cached (default: ~/.cache/underlight/reference).
     #[arg(long, value_name = "DIR")]
     cache: Option<PathBuf>,
+}
+
+/// `--threads`: 0 (one per core) up to the reference's own limit, refused here before a
+/// scene is loaded rather than after.
+fn thread_count(text: &str) -> std::result::Result<usize, String> {
+    let v: usize = text.trim().parse().map_err(|_| format!("{text:?} is not a whole number of threads"))?;
+    let max = underlight::reference::MAX_THREADS;
+    if v > max {
+        return Err(format!("must be at most {max} (got {v}; 0: one per core)"));
+    }
+    Ok(v)
 }
 
 impl ReferenceOptions {
