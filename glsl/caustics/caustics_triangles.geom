@@ -44,8 +44,8 @@
 //     smaller; on the port's pilings, which the light grazes, such squares held a photon's
 //     light in a few pixels, 10× the reference's there and bright dots in the image. Drawn
 //     as cells, 320×200: storage 0.376 → 0.370, holes 1.73 → 1.56 %, at 1440×850 1.236 →
-//     1.227, 2.13 → 1.82 %; tank and port the same to 0.001; flux 0.05–0.15 % lower, cells
-//     on a piling's curve leaving its facet's plane.) Where neither can be had (a point
+//     1.227, 2.13 → 1.82 %; tank and port the same to 0.001; flux 0.05–0.15 % lower on the
+//     port and the storage, presumably cells on a piling's curve leaving its facet's plane.) Where neither can be had (a point
 //     light's photon, a corner behind the camera), a square the size of its footprint or of
 //     the paper's points, whichever is smaller. (Squares everywhere were the tank's most visible flaw: dots of
 //     light on its ledge, its cube's face and its rocks, where the light grazes a face and
