@@ -45,9 +45,10 @@
 //     light in a few pixels, 10× the reference's there and bright dots in the image. Drawn
 //     as cells, 320×200: storage 0.376 → 0.370, holes 1.73 → 1.56 %, at 1440×850 1.236 →
 //     1.227, 2.13 → 1.82 %; tank and port the same to 0.001; flux 0.05–0.15 % lower on the
-//     port and the storage, presumably cells on a piling's curve leaving its facet's plane.) Where neither can be had (a point
-//     light's photon, a corner behind the camera), a square the size of its footprint or of
-//     the paper's points, whichever is smaller. (Squares everywhere were the tank's most visible flaw: dots of
+//     port and the storage, presumably cells on a piling's curve leaving its facet's
+//     plane.) Where neither can be had (a point light's photon, a corner behind the
+//     camera), a square the size of its footprint or of the paper's points, whichever is
+//     smaller. (Squares everywhere were the tank's most visible flaw: dots of
 //     light on its ledge, its cube's face and its rocks, where the light grazes a face and
 //     a row or two of photons lands on it. Drawn as cells, they are the reference's faint
 //     streaks. 320×200: tank 0.426 → 0.423, port 0.512 → 0.509, storage 0.561 → 0.547;
@@ -337,8 +338,8 @@ bool parallel_footprint_edge(int k, int axis, vec2 photons_per_axis, out vec3 ed
     if (frame.light_is_point != 0.0 || !(dot(direction[k], direction[k]) > 0.5)) return false;
     // The light's window is orthographic: an NDC step of 2 spans it.
     vec4 across = axis == 0 ? vec4(2.0, 0.0, 0.0, 0.0) : vec4(0.0, 2.0, 0.0, 0.0);
-    vec3 step = (frame.light_inv_view_proj * across).xyz * frame.photon_window_size[axis] / photons_per_axis[axis]
-              * sqrt(cell_scale[k]);
+    vec3 step = (frame.light_inv_view_proj * across).xyz * frame.photon_window_size[axis]
+              / photons_per_axis[axis] * sqrt(cell_scale[k]);
     // Along the light to the water's level, then along the refracted ray to the plane.
     vec3 at_water = step - frame.light_axis * (step.y / min(frame.light_axis.y, -1e-3));
     float denom = dot(direction[k], normal[k]);
@@ -718,8 +719,10 @@ void main() {
         vec3 du, dv;
         int minus_u = i > 0 ? k - 1 : -1, plus_u = i + 1 < side ? k + 1 : -1;
         int minus_v = j > 0 ? k - side : -1, plus_v = j + 1 < side ? k + side : -1;
-        bool has_du = footprint_edge(k, minus_u, plus_u, du) || parallel_footprint_edge(k, 0, mesh_photons_per_axis, du);
-        bool has_dv = footprint_edge(k, minus_v, plus_v, dv) || parallel_footprint_edge(k, 1, mesh_photons_per_axis, dv);
+        bool has_du = footprint_edge(k, minus_u, plus_u, du)
+                   || parallel_footprint_edge(k, 0, mesh_photons_per_axis, du);
+        bool has_dv = footprint_edge(k, minus_v, plus_v, dv)
+                   || parallel_footprint_edge(k, 1, mesh_photons_per_axis, dv);
         if (has_du && has_dv) {
             int q = returned_quadrants[k];
             vec4 reach = vec4(0.5);
