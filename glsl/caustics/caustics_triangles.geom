@@ -317,22 +317,11 @@ bool ray_on_receiver_plane(int m, int k, out vec3 q) {
     return true;
 }
 
-// One edge of photon k's cell on its receiver's plane, along a grid axis: half the span between
-// its two neighbours' rays on that plane (the photon differential), or the span to the one
-// neighbour the invocation has; false with neither.
-bool footprint_edge(int k, int before, int after, out vec3 edge) {
-    vec3 qa, qb;
-    bool a = before >= 0 && ray_on_receiver_plane(before, k, qa);
-    bool b = after >= 0 && ray_on_receiver_plane(after, k, qb);
-    edge = a && b ? 0.5 * (qb - qa) : b ? qb - hit[k] : a ? hit[k] - qa : vec3(0.0);
-    return a || b;
-}
-
-// One edge of photon k's cell on its receiver's plane along grid axis `axis` (0: u, 1: v)
-// where no neighbour's ray gives it (footprint_edge): the neighbour's ray is taken parallel to
-// k's own, entering the water one grid step away (the step isotropic under the view's warp:
-// its area is the warped cell's). A directional light's only (a point light's rays spread).
-// False where k never refracted, or its ray runs along its receiver's plane.
+// The edge of photon k's cell along grid axis `axis` (0: u, 1: v) from its own refracted ray:
+// the neighbour's ray taken parallel to k's, entering the water one grid step away (the step
+// isotropic under the view's warp: its area is the warped cell's). A directional light's
+// only (a point light's rays spread). False where k never refracted, or its ray runs along
+// its receiver's plane.
 bool parallel_footprint_edge(int k, int axis, vec2 photons_per_axis, out vec3 edge) {
     edge = vec3(0.0);
     if (frame.light_is_point != 0.0 || !(dot(direction[k], direction[k]) > 0.5)) return false;
@@ -346,6 +335,19 @@ bool parallel_footprint_edge(int k, int axis, vec2 photons_per_axis, out vec3 ed
     if (abs(denom) <= 1e-3) return false;
     edge = at_water - direction[k] * (dot(at_water, normal[k]) / denom);
     return true;
+}
+
+// One edge of photon k's cell on its receiver's plane, along grid axis `axis` between its
+// neighbours `before` and `after` (−1: none in this invocation): half the span between their
+// rays on that plane (the photon differential), or the span to the one whose ray meets it.
+// Where neither does (both blocked above the water, or running along the plane), k's own ray
+// a grid step over (parallel_footprint_edge). False with none of these.
+bool footprint_edge(int k, int before, int after, int axis, vec2 photons_per_axis, out vec3 edge) {
+    vec3 qa, qb;
+    bool a = before >= 0 && ray_on_receiver_plane(before, k, qa);
+    bool b = after >= 0 && ray_on_receiver_plane(after, k, qb);
+    edge = a && b ? 0.5 * (qb - qa) : b ? qb - hit[k] : a ? hit[k] - qa : vec3(0.0);
+    return a || b || parallel_footprint_edge(k, axis, photons_per_axis, edge);
 }
 
 vec3 photon_irradiance(int k) {
@@ -719,11 +721,8 @@ void main() {
         vec3 du, dv;
         int minus_u = i > 0 ? k - 1 : -1, plus_u = i + 1 < side ? k + 1 : -1;
         int minus_v = j > 0 ? k - side : -1, plus_v = j + 1 < side ? k + side : -1;
-        bool has_du = footprint_edge(k, minus_u, plus_u, du)
-                   || parallel_footprint_edge(k, 0, mesh_photons_per_axis, du);
-        bool has_dv = footprint_edge(k, minus_v, plus_v, dv)
-                   || parallel_footprint_edge(k, 1, mesh_photons_per_axis, dv);
-        if (has_du && has_dv) {
+        if (footprint_edge(k, minus_u, plus_u, 0, mesh_photons_per_axis, du)
+            && footprint_edge(k, minus_v, plus_v, 1, mesh_photons_per_axis, dv)) {
             int q = returned_quadrants[k];
             vec4 reach = vec4(0.5);
             if ((q & (QUARTER_MINUS_U_MINUS_V | QUARTER_MINUS_U_PLUS_V)) != 0) reach.x = cell_reach(k, minus_u);
