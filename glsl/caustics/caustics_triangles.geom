@@ -29,31 +29,30 @@
 //     1/a times its flux. One under SLIVER_PIXELS (1 px²) is deposited as the pixels' share of its
 //     footprint instead (shader_math.glsl): exactly its flux, over the one to four pixels
 //     a square of its area centred on its centroid overlaps.
-//   - A triangle that spans a discontinuity (a corner that did not land, or corners on
+//   - A mesh cell that spans a discontinuity (a corner that did not land, or corners on
 //     different receivers: a wall and the floor, a box top and the floor) would smear light
-//     over what lies between; its flux goes back to its landed corners. Each draws what it
-//     is handed over its own cell on its receiver's plane (emit_footprint): the
-//     parallelogram its grid neighbours' refracted rays span on that plane, the photon
-//     differential, which needs their rays, not their hits. Towards a neighbour on another
-//     receiver, or one that did not land, the cell reaches to where its receiver ends,
-//     found by bisecting the grid edge between them (search_borders), not half-way. Along
-//     an axis where no neighbour's ray meets the plane (both blocked above the water, a
-//     deck's or a rail's shadow, or both running along it), the edge is the photon's own
-//     ray taken one grid step over (parallel_footprint_edge), under a directional light.
-//     (They drew squares before, of the footprint's area or the paper's size, whichever was
-//     smaller; on the port's pilings, which the light grazes, such squares held a photon's
-//     light in a few pixels, 10× the reference's there and bright dots in the image. Drawn
-//     as cells, 320×200: storage 0.376 → 0.370, holes 1.73 → 1.56 %, at 1440×850 1.236 →
-//     1.227, 2.13 → 1.82 %; tank and port the same to 0.001; flux 0.05–0.15 % lower on the
-//     port and the storage, presumably cells on a piling's curve leaving its facet's
-//     plane.) Where neither can be had (a point light's photon, a corner behind the
-//     camera), a square the size of its footprint or of the paper's points, whichever is
-//     smaller. (Squares everywhere were the tank's most visible flaw: dots of
+//     over what lies between, so its triangles are not drawn. It is cut instead
+//     (emit_cut_cell, marching squares over the receivers): each run of its corners on one
+//     receiver draws the polygon of those corners and the places on the cell's edges where
+//     that receiver ends, found by bisecting the grid edge (search_borders). A crossing lies
+//     on the corner's receiver's plane, along the photon differential (footprint_edge: the
+//     span of its grid neighbours' refracted rays on that plane, which needs their rays, not
+//     their hits; where no neighbour's ray meets the plane, a deck's or a rail's shadow, the
+//     photon's own ray a grid step over, parallel_footprint_edge). The polygon carries the
+//     light through its own part of the photon window, so a border is drawn as the straight
+//     line between its crossings and carries the light up to it.
+//     (Before, a refused triangle handed a third of its flux to each landed corner, and each
+//     drew it over the bounding box of its cell's quarters, out to the borders: the borders
+//     were staircases, and a slit narrower than the photons' spacing read 4/3 of its light at
+//     its brightest. Cut, 320×200: tank 0.316 → 0.321, port 0.413, storage 0.370 → 0.361;
+//     holes 0.30 / 0.21 / 1.56 % → 0.07 / 0.10 / 0.94 %; at the scenes' own sizes 0.839 /
+//     1.316 / 1.227 → 0.833 / 1.312 / 1.206, holes 0.99 / 0.77 / 1.82 % → 0.79 / 0.56 /
+//     1.67 %; flux 0.05–0.3 % lower; docs/accuracy.md, "Cells cut at receivers' borders".)
+//     A corner whose polygon cannot be had (a point light's photon with no neighbour's ray
+//     on its plane) draws a square the size of its footprint or of the paper's points,
+//     whichever is smaller. (Squares everywhere were the tank's most visible flaw: dots of
 //     light on its ledge, its cube's face and its rocks, where the light grazes a face and
-//     a row or two of photons lands on it. Drawn as cells, they are the reference's faint
-//     streaks. 320×200: tank 0.426 → 0.423, port 0.512 → 0.509, storage 0.561 → 0.547;
-//     flux −0.8 / −1.3 / −0.8 % → −1.0 / −1.4 / −1.4 %: a cell that reaches past its
-//     receiver's edge loses that part to the depth test, where a square stayed on it.)
+//     a row or two of photons lands on it.)
 // Measured on the tank at 320×200 against the reference (relative RMSE, flux), with flat
 // values and slivers as one whole pixel: threshold 0 (all rasterised) 3.44, −6.2 %;
 // 0.125 px² 0.86, −3.1 %; 0.5 px² 0.66, −2.4 %; 1 px² 0.68, −2.4 % (above 0.5 px² squares
@@ -72,18 +71,17 @@
 const float SLIVER_PIXELS = 1.0; // px²; see above (a footprint's side is at most a pixel)
 const float THIN_TRIANGLE_HEIGHT = 1.0; // px across its longest edge: a triangle under it is drawn as a strip
 const float THIN_SLIVER_LENGTH = 1.5; // px: a sliver longer than this is drawn along its length
-const float FOOTPRINT_MAX_EDGE = 64.0; // px: the longest edge a handed-back photon's cell is drawn with
+const float FOOTPRINT_MAX_EDGE = 64.0; // px: the farthest a cut cell's crossing lies from its corner
 const int MAX_SIDE = TRIANGLE_MAX_SUBDIVISION + 1;  // photons per axis an invocation casts
 const int MAX_PHOTONS = MAX_SIDE * MAX_SIDE;
 
 layout(points) in;
-// The output bound. Each of the 2·3² triangles draws itself (3 vertices), a square (4), or
-// nothing, handing its flux to its corners, and each of the 4² photons so handed flux draws
-// its cell or a square (4). Failing a set F of triangles trades 4·|F| vertices for 4·|corners of F|, and
-// covering all 16 photons takes at least 6 triangles, so at most 4·18 + 4·(16 − 6) = 112
-// vertices. Each has 8 components (gl_Position alone of gl_PerVertex, and the irradiance's
-// location): 896 of the 1024 every geometry-shader device offers.
-layout(triangle_strip, max_vertices = 112) out;
+// The output bound. Each of the 3² mesh cells is drawn whole, as two triangles that each draw
+// themselves (3 vertices), a strip or a square (4), or cut at a receiver's border, as up to
+// 12 vertices (emit_cut_cell): at most 9 · 12 = 108 vertices. Each has 8 components
+// (gl_Position alone of gl_PerVertex, and the irradiance's location): 864 of the 1024 every
+// geometry-shader device offers.
+layout(triangle_strip, max_vertices = 108) out;
 out gl_PerVertex { vec4 gl_Position; };
 layout(constant_id = 0) const uint SUBDIVISION = 2;
 layout(push_constant) uniform GridPush { uint grid; } pc;
@@ -130,8 +128,7 @@ float cell_scale[MAX_PHOTONS]; // its grid cell's area over the even grid's (pho
 bool landed[MAX_PHOTONS];
 bool steep[MAX_PHOTONS];     // found in the second light maps (Photon::steep_map)
 bool seen[MAX_PHOTONS];      // landed on the side of its receiver the camera sees (lit_side_faces_camera)
-vec3 returned[MAX_PHOTONS];  // flux handed back by triangles that span a discontinuity
-int returned_quadrants[MAX_PHOTONS]; // which quarters of its cell those triangles lie in (QUARTER_*)
+bool in_cut_cell[MAX_PHOTONS]; // a drawable corner (drawable) of a cut cell (emit_cut_cell)
 vec3 around_flux[MAX_PHOTONS]; // sums over the drawn triangles around each photon
 float around_area[MAX_PHOTONS];
 float around_pixels[MAX_PHOTONS];     // their pixels and world area, where in front of the
@@ -160,18 +157,18 @@ void emit_square(CausticSplat s, float footprint) {
     EndPrimitive();
 }
 
-// Whether photons a, b, c landed on one smooth receiver, on the side the camera sees: normals
-// within 45° of a's, and b and c off a's tangent plane by under a quarter of their distance
-// from a. (Within 25°, the facets of the tank's rocks, 20–40° apart, refused their triangles,
-// and their photons drew squares; a wall and the floor, 90°, stay two receivers.)
 // Whether a photon that landed at `p` with receiver normal `n` lies on photon k's receiver:
 // normals within 45°, and off k's tangent plane by under a quarter of its distance from k.
+// (Within 25°, the facets of the tank's rocks, 20–40° apart, refused their triangles, and
+// their photons drew squares; a wall and the floor, 90°, stay two receivers.)
 bool on_receiver_of(int k, vec3 p, vec3 n) {
     if (dot(normal[k], n) < 0.7) return false;
     vec3 d = p - hit[k];
     return abs(dot(d, normal[k])) <= 0.25 * length(d);
 }
 
+// Whether photons a, b, c landed on one smooth receiver (a's: on_receiver_of), on the side
+// the camera sees.
 bool one_receiver(int a, int b, int c) {
     if (!(landed[a] && landed[b] && landed[c])) return false;
     if (!(seen[a] && seen[b] && seen[c])) return false;
@@ -196,13 +193,6 @@ float triangle_pixels(int a, int b, int c) {
     return 0.5 * abs(u.x * v.y - u.y * v.x);
 }
 
-// The quarters of a photon's cell, by the signs of the grid axes (bit 0: +u, bit 1: +v). A
-// mesh cell lies in the +u+v quarter of its lower-left photon's cell, the −u+v quarter of its
-// lower-right photon's, and so on, whichever diagonal splits it (main): the triangles around a
-// photon cover its cell's quarters.
-const int QUARTER_MINUS_U_MINUS_V = 1, QUARTER_PLUS_U_MINUS_V = 2,
-          QUARTER_MINUS_U_PLUS_V = 4, QUARTER_PLUS_U_PLUS_V = 8;
-
 // The photon window's uv area between the places where photons a, b, c were cast.
 float window_area(int a, int b, int c) {
     vec2 u = window_uv[b] - window_uv[a], v = window_uv[c] - window_uv[a];
@@ -214,20 +204,9 @@ vec3 triangle_flux(int a, int b, int c) {
     return (flux_density[a] + flux_density[b] + flux_density[c]) * (window_area(a, b, c) / 3.0);
 }
 
-// First pass over a triangle: a triangle on one receiver lends its flux and area to its
-// corners' irradiance; one that spans a discontinuity hands its flux back to them, and marks
-// the quarter of each corner's cell it lies in (qa, qb, qc).
-void gather_triangle(int a, int b, int c, int qa, int qb, int qc) {
-    if (!one_receiver(a, b, c)) {
-        float third = window_area(a, b, c) / 3.0;
-        returned[a] += flux_density[a] * third;
-        returned[b] += flux_density[b] * third;
-        returned[c] += flux_density[c] * third;
-        returned_quadrants[a] |= qa;
-        returned_quadrants[b] |= qb;
-        returned_quadrants[c] |= qc;
-        return;
-    }
+// First pass over a triangle of a cell drawn whole: it lends its flux and area to its
+// corners' irradiance (photon_irradiance).
+void gather_triangle(int a, int b, int c) {
     vec3 share = triangle_flux(a, b, c);
     float area = triangle_area(a, b, c);
     around_flux[a] += share; around_flux[b] += share; around_flux[c] += share;
@@ -238,6 +217,22 @@ void gather_triangle(int a, int b, int c, int qa, int qb, int qc) {
         around_count[a] += 1.0; around_count[b] += 1.0; around_count[c] += 1.0;
         around_pixel_area[a] += area; around_pixel_area[b] += area; around_pixel_area[c] += area;
     }
+}
+
+// A strip two pixels wide between clip positions `from` and `to`, offset `middle` pixels
+// along `across` (the unit normal of their line on the target), each of its pixels taking
+// `value` weighted by the tent of its distance from the middle line (strip_weight,
+// shader_math.glsl).
+void emit_strip(vec4 from, vec4 to, vec2 across, float middle, vec3 value) {
+    for (int k = 0; k < 4; ++k) {
+        vec4 end = (k >> 1) == 0 ? from : to;
+        float d = (k & 1) == 0 ? -1.0 : 1.0;
+        vec2 offset_px = across * (middle + d);
+        gl_Position = end + vec4(offset_px * 2.0 / frame.caustic_target_size * end.w, 0.0, 0.0);
+        g_irradiance = vec4(value, strip_across_code(d));
+        EmitVertex();
+    }
+    EndPrimitive();
 }
 
 // Emits the sliver (a, b, c) as a strip along its longest edge, through the middle of its
@@ -260,17 +255,7 @@ bool emit_thin_sliver(int a, int b, int c, vec3 per_pixel) {
     vec2 along = (p[i1] - p[i0]) / length_px;
     vec2 across = vec2(-along.y, along.x);
     float middle = 0.5 * dot(p[i2] - p[i0], across); // half the height, towards the third corner
-    vec4 ends[2] = vec4[2](clip[corners[i0]], clip[corners[i1]]);
-    vec3 value = per_pixel / length_px;
-    for (int k = 0; k < 4; ++k) {
-        vec4 end = ends[k >> 1];
-        float d = (k & 1) == 0 ? -1.0 : 1.0;
-        vec2 offset_px = across * (middle + d);
-        gl_Position = end + vec4(offset_px * 2.0 / frame.caustic_target_size * end.w, 0.0, 0.0);
-        g_irradiance = vec4(value, strip_across_code(d));
-        EmitVertex();
-    }
-    EndPrimitive();
+    emit_strip(clip[corners[i0]], clip[corners[i1]], across, middle, per_pixel / length_px);
     return true;
 }
 
@@ -337,15 +322,17 @@ bool parallel_footprint_edge(int k, int axis, vec2 photons_per_axis, out vec3 ed
     return true;
 }
 
-// One edge of photon k's cell on its receiver's plane, along grid axis `axis` between its
-// neighbours `before` and `after` (−1: none in this invocation): half the span between their
-// rays on that plane (the photon differential), or the span to the one whose ray meets it.
-// Where neither does (both blocked above the water, or running along the plane), k's own ray
-// a grid step over (parallel_footprint_edge). False with none of these.
-bool footprint_edge(int k, int before, int after, int axis, vec2 photons_per_axis, out vec3 edge) {
+// One edge of photon k's cell on its receiver's plane, along grid axis `axis` (0: u, 1: v)
+// between its neighbours before and after it on the invocation's grid (of `side` photons a
+// row): half the span between their rays on that plane (the photon differential), or the
+// span to the one whose ray meets it. Where neither does (both blocked above the water, or
+// running along the plane), k's own ray a grid step over (parallel_footprint_edge). False
+// with none of these.
+bool footprint_edge(int k, int axis, int side, vec2 photons_per_axis, out vec3 edge) {
+    int along = axis == 0 ? k % side : k / side, step = axis == 0 ? 1 : side;
     vec3 qa, qb;
-    bool a = before >= 0 && ray_on_receiver_plane(before, k, qa);
-    bool b = after >= 0 && ray_on_receiver_plane(after, k, qb);
+    bool a = along > 0 && ray_on_receiver_plane(k - step, k, qa);
+    bool b = along + 1 < side && ray_on_receiver_plane(k + step, k, qb);
     edge = a && b ? 0.5 * (qb - qa) : b ? qb - hit[k] : a ? hit[k] - qa : vec3(0.0);
     return a || b || parallel_footprint_edge(k, axis, photons_per_axis, edge);
 }
@@ -409,26 +396,30 @@ void emit_triangle(int a, int b, int c) {
 
 // Bisections of a grid edge whose ends lie on different receivers, or of which one end did
 // not land (a shadow's edge, the water's): each casts a photon at the middle of the interval
-// left, and halves it. Without them a photon's handed-back flux reached half-way to its
-// neighbour whatever lay between, and every lit region's border was a staircase of cells
-// (long spikes where cells stretch along the view: the tank's shadows at 800×800).
+// left, and halves it. Without them the light reached half-way to the neighbour whatever
+// lay between, and every lit region's border was a staircase of cells (long spikes where
+// cells stretch along the view: the tank's shadows at 800×800).
 const int BORDER_BISECTIONS = 3;
 const int MAX_EDGES = 2 * MAX_SIDE * (MAX_SIDE - 1);
 
-// Whether photon k draws a cell of handed-back flux (main's last loop): the camera sees its
-// receiver's lit side, and a triangle around it was refused.
-bool draws_cell(int k) {
-    return seen[k] && any(notEqual(returned[k], vec3(0.0)));
+// Whether photon k can carry a cut cell's light (emit_cut_cell): it landed, on the side of
+// its receiver the camera sees.
+bool drawable(int k) {
+    return landed[k] && seen[k];
 }
 
-// Whether grid edge k → m crosses a receiver's border that a drawn photon's cell reaches:
-// an end that draws a cell (the others never read the border: the ring's photons past the
-// grid's first, whose mesh cells its own invocations draw), and the other end off its
-// receiver.
+// Whether the light runs on along grid edge k–m on one receiver: both ends drawable, each on
+// the other's receiver.
+bool edge_continuous(int k, int m) {
+    return drawable(k) && drawable(m) && on_receiver_of(k, hit[m], normal[m]) && on_receiver_of(m, hit[k], normal[k]);
+}
+
+// Whether grid edge k → m crosses a receiver's border that a cut cell's polygon reaches: an
+// end is a cut cell's drawable corner (the others never read the border: the ring's photons
+// past the grid's first, whose mesh cells its own invocations draw), and the light does not
+// run on along it.
 bool edge_crosses_border(int k, int m) {
-    if (!(draws_cell(k) || draws_cell(m))) return false;
-    if (!(landed[k] && landed[m])) return true;
-    return !on_receiver_of(k, hit[m], normal[m]);
+    return (in_cut_cell[k] || in_cut_cell[m]) && !edge_continuous(k, m);
 }
 
 // Searches every edge of the invocation that crosses a receiver's border (border_u,
@@ -448,7 +439,7 @@ void search_borders(int side, vec2 photons_per_axis) {
         bool along_u = (edges[e] & 1) == 0;
         int high = along_u ? low + 1 : low + side;
         // Search from the end the camera sees; the fraction is stored from the low end.
-        int from = seen[low] ? low : high, to = from == low ? high : low;
+        int from = drawable(low) ? low : high, to = from == low ? high : low;
         float inside = 0.0, outside = 1.0;
         for (int b = 0; b < BORDER_BISECTIONS; ++b) {
             float t = 0.5 * (inside + outside);
@@ -471,79 +462,193 @@ void search_borders(int side, vec2 photons_per_axis) {
     }
 }
 
-// How far photon k's cell reaches towards its grid neighbour m (−1: none in this
-// invocation), in grid edges: half-way where both lie on one receiver, otherwise to where
-// the receiver ends (search_borders; from the other end of the edge, 1 − that).
-float cell_reach(int k, int m) {
-    if (m < 0) return 0.5;
+// The fraction of grid edge k–m from k at which k's receiver ends (search_borders, which
+// stores it from the edge's low end); half-way where the edge was not searched.
+float border_from(int k, int m) {
     int low = min(k, m);
-    float border = max(k, m) - low == 1 ? border_u[low] : border_v[low];
+    float border = abs(k - m) == 1 ? border_u[low] : border_v[low];
     if (border < 0.0) return 0.5;
     return k == low ? border : 1.0 - border;
 }
 
-// Draws flux handed back to photon k over its cell on its receiver's plane: the parallelogram
-// of edges du and dv centred on its hit (footprint_edge), each edge at most
-// FOOTPRINT_MAX_EDGE pixels long. The cell is where the photon's share of the wavefront lands
-// on that plane, so this is the irradiance its triangles would have drawn there. A cell under
-// a pixel goes to the pixels its footprint overlaps, as a sliver does. False where a corner
-// lies behind the near plane or the cell has no area. `reach`: how far the cell reaches
-// towards −u, +u, −v, +v, in grid edges (cell_reach; half of one where its neighbour there
-// shares its receiver): the irradiance is the half-edge cell's, drawn out to where the
-// receiver ends.
-bool emit_footprint(int k, vec3 du, vec3 dv, vec4 reach) {
-    if (!(clip[k].w > frame.z_near)) return false;
-    vec2 p = target_pixel(clip[k]);
-    vec3 edges[2] = vec3[2](du, dv);
-    vec4 clip_edges[2];
-    for (int e = 0; e < 2; ++e) {
-        vec4 c = frame.camera_view_proj * vec4(edges[e], 0.0);
-        vec4 far_end = clip[k] + 0.5 * c;
-        if (!(far_end.w > frame.z_near) || !(clip[k].w - 0.5 * c.w > frame.z_near)) return false;
-        float length_px = 2.0 * distance(target_pixel(far_end), p);
-        if (length_px > FOOTPRINT_MAX_EDGE) {
-            edges[e] *= FOOTPRINT_MAX_EDGE / length_px;
-            c *= FOOTPRINT_MAX_EDGE / length_px;
-        }
-        clip_edges[e] = c;
+// Where the light on photon k's receiver ends along its grid edge towards neighbour m, which
+// lies `sign` (±1) along grid axis `axis` from it, at fraction f of the edge: on k's
+// receiver's plane, f of k's cell's edge there (footprint_edge), at most FOOTPRINT_MAX_EDGE
+// pixels from k. `window`: the same fraction of the photon window between the places they
+// were cast. False where k's cell has no such edge. (The span to m's own ray alone, rather
+// than the cell's edge, which averages both neighbours' rays, put bright single pixels on
+// the tank's cube and the storage's floor: where m lands on another receiver, its ray can
+// meet k's plane anywhere.)
+bool border_crossing(int k, int m, int axis, float sign, float f, vec2 photons_per_axis, out vec3 p, out vec2 window) {
+    window = mix(window_uv[k], window_uv[m], f);
+    p = hit[k];
+    vec3 edge;
+    if (!footprint_edge(k, axis, int(SUBDIVISION) + 1, photons_per_axis, edge)) return false;
+    vec3 offset = f * sign * edge;
+    vec4 far_end = frame.camera_view_proj * vec4(hit[k] + offset, 1.0);
+    if (clip[k].w > frame.z_near && far_end.w > frame.z_near) {
+        float length_px = distance(target_pixel(far_end), target_pixel(clip[k]));
+        if (length_px > FOOTPRINT_MAX_EDGE) offset *= FOOTPRINT_MAX_EDGE / length_px;
     }
-    // Only the quarters whose triangles handed flux back (their bounding box): where a
-    // photon's triangles are drawn on one side and refused on the other (the rows along a
-    // receiver's edge), a whole cell would light the drawn side twice and the other half.
-    int q = returned_quadrants[k];
-    vec2 lo = vec2((q & (QUARTER_MINUS_U_MINUS_V | QUARTER_MINUS_U_PLUS_V)) != 0 ? -0.5 : 0.0,
-                   (q & (QUARTER_MINUS_U_MINUS_V | QUARTER_PLUS_U_MINUS_V)) != 0 ? -0.5 : 0.0);
-    vec2 hi = vec2((q & (QUARTER_PLUS_U_MINUS_V | QUARTER_PLUS_U_PLUS_V)) != 0 ? 0.5 : 0.0,
-                   (q & (QUARTER_MINUS_U_PLUS_V | QUARTER_PLUS_U_PLUS_V)) != 0 ? 0.5 : 0.0);
-    float area = length(cross(edges[0], edges[1])) * (hi.x - lo.x) * (hi.y - lo.y);
-    if (!(area > 1e-12)) return false;
-    lo *= 2.0 * reach.xz;
-    hi *= 2.0 * reach.yw;
-    vec4 corner[4];
-    for (int v = 0; v < 4; ++v) {
-        corner[v] = clip[k] + ((v & 1) == 0 ? lo.x : hi.x) * clip_edges[0] + ((v >> 1) == 0 ? lo.y : hi.y) * clip_edges[1];
-        if (!(corner[v].w > frame.z_near)) return false;
-    }
-    vec2 a = target_pixel(corner[0]), b = target_pixel(corner[1]), c = target_pixel(corner[2]), d = target_pixel(corner[3]);
-    vec2 diagonal_1 = d - a, diagonal_2 = c - b;
-    float pixels = 0.5 * abs(diagonal_1.x * diagonal_2.y - diagonal_1.y * diagonal_2.x);
-    vec3 irradiance = returned[k] / (area * frame.surface_irradiance);
-    if (pixels < SLIVER_PIXELS) {
-        CausticSplat s;
-        vec3 centre = hit[k] + 0.5 * (lo.x + hi.x) * edges[0] + 0.5 * (lo.y + hi.y) * edges[1];
-        if (!caustic_square_on(centre, normal[k], returned[k], 1.0, s)) return true; // off the target: nothing to draw
-        s.irradiance.rgb = irradiance * pixels;
-        s.size = 2.0;
-        emit_square(s, sliver_footprint_code(target_pixel(s.clip), sqrt(pixels)));
-        return true;
-    }
-    for (int v = 0; v < 4; ++v) {
-        gl_Position = corner[v];
-        g_irradiance = vec4(irradiance, 0.0);
-        EmitVertex();
-    }
-    EndPrimitive();
+    p = hit[k] + offset;
     return true;
+}
+
+// A square for the light of a cut cell's corner k that has no polygon (a point light's photon
+// with no neighbour's ray on its plane, or a polygon without area): the photon's own
+// footprint (its cell: two of the triangles around it) where that is smaller than the paper's
+// distance rule, whose 5-20 px blurred the edge of every lit region by that much. Where the
+// footprint is larger (faces the light grazes, whose cells stretch), the rule's size:
+// footprint-sized squares there were grey blocks on the tank's cube, against faint streaks
+// in the reference.
+void emit_corner_square(int k, vec3 flux, vec2 photons_per_axis) {
+    float size = regulated_point_size(length(hit[k] - frame.camera_position), frame.z_near, frame.z_far,
+                                      frame.point_size_min, frame.point_size_max);
+    if (around_count[k] > 0.0) size = min(size, sqrt(2.0 * around_pixels[k] / around_count[k]));
+    else if (frame.light_is_point == 0.0) size = min(size, sqrt(cell_pixels(k, photons_per_axis)));
+    size = clamp(round(size), 1.0, floor(frame.device_max_point_size));
+    CausticSplat s;
+    if (!caustic_square_on(hit[k], normal[k], flux, size, s)) return; // off the target
+    // The receiver area per pixel from the drawn triangles around the photon, where it has
+    // any (see emit_triangle).
+    if (around_pixels[k] > 1e-4 && around_pixel_area[k] > 1e-12)
+        s.irradiance.rgb = flux * around_pixels[k] / (size * size * around_pixel_area[k] * frame.surface_irradiance);
+    emit_square(s, -size);
+}
+
+// With a cell's corners listed around it (p00, p10, p11, p01), its edge e runs from corner e
+// to corner e + 1 along grid axis e & 1 (0: u, 1: v): forwards (+1) for e = 0, 1, backwards
+// (−1) for e = 2, 3.
+float cell_edge_sign(int e) {
+    return e < 2 ? 1.0 : -1.0;
+}
+
+float cross2(vec2 a, vec2 b) {
+    return a.x * b.y - a.y * b.x;
+}
+
+// Draws the light of a mesh cell that spans a receiver's border (a corner that did not land,
+// that the camera does not see, or that lies on another receiver): each run of its corners
+// along which the light runs on (edge_continuous) draws the polygon of those corners and the
+// two places on the cell's edges where their receiver ends (border_crossing), at most six
+// vertices (a run of the four, broken on one edge). Marching squares over the receivers, with
+// the borders bisected: a border through the cell is drawn as the straight line between its
+// crossings, where the photons' cells (bounding boxes of the refused triangles' quarters,
+// before) drew it as a staircase. Each polygon carries the light through its own part of
+// the photon window (the polygon's corners there) at its corners' mean flux density, flat
+// over its area on the receiver: exact for the light that the waves do not bend within the
+// cell, so a slit narrower than the photons' spacing over flat water reads flat water's
+// irradiance (tests/method.rs). A polygon thinner than a pixel is laid as a strip, and one
+// under a pixel goes to the pixels its footprint overlaps, as a triangle is. The corners are
+// listed around the cell: p00, p10, p11, p01. The output bound: up to four runs, each a
+// triangle (3 vertices) or, in a cell of at most three runs, a strip or a square (4): 12
+// vertices at most (a run of two and two of one, as squares). A cell of four runs (its four
+// corners on four receivers) rasterises its triangles whatever their size.
+void emit_cut_cell(int p00, int p10, int p11, int p01, vec2 photons_per_axis) {
+    int q[4] = int[4](p00, p10, p11, p01);
+    bool continuous[4]; // edge e, corner e to corner e + 1
+    for (int e = 0; e < 4; ++e) continuous[e] = edge_continuous(q[e], q[(e + 1) & 3]);
+    // A cell all of whose edges carry the light on (its triangles refused across a diagonal)
+    // is one run of four, drawn as its quadrilateral.
+    bool whole = continuous[0] && continuous[1] && continuous[2] && continuous[3];
+    // The runs' first corners (a drawable corner whose edge before it is broken), listed
+    // first and drawn in one loop over the list, as main lists the cut cells.
+    int run_first[4];
+    int runs = 0;
+    for (int c = 0; c < 4; ++c) {
+        if (whole ? c == 0 : drawable(q[c]) && !continuous[(c + 3) & 3]) run_first[runs++] = c;
+    }
+    bool squares = runs < 4;
+    for (int run = 0; run < runs; ++run) {
+        int first = run_first[run];
+        vec3 p[6];
+        vec2 window[6];
+        vec3 density = vec3(0.0);
+        int n = 0, last = first;
+        for (int step = 0; step < 4; ++step) {
+            last = (first + step) & 3;
+            p[n] = hit[q[last]];
+            window[n] = window_uv[q[last]];
+            density += flux_density[q[last]];
+            ++n;
+            if (!continuous[last] || step == 3) break;
+        }
+        density /= float(n);
+        bool crossed = true;
+        if (!whole) {
+            int next = (last + 1) & 3, before = (first + 3) & 3;
+            crossed = border_crossing(q[last], q[next], last & 1, cell_edge_sign(last),
+                                      border_from(q[last], q[next]), photons_per_axis, p[n], window[n]);
+            ++n;
+            bool back = border_crossing(q[first], q[before], before & 1, -cell_edge_sign(before),
+                                        border_from(q[first], q[before]), photons_per_axis, p[n], window[n]);
+            crossed = crossed && back;
+            ++n;
+        }
+        // On the receiver, the polygon's triangles from its first corner each keep |area|, as
+        // a folded triangle does: a polygon that the waves fold would cancel its own area.
+        float window_area = 0.0, area = 0.0;
+        for (int v = 0; v < n; ++v) {
+            window_area += cross2(window[v], window[(v + 1) % n]);
+            if (v >= 1 && v + 1 < n) area += 0.5 * length(cross(p[v] - p[0], p[v + 1] - p[0]));
+        }
+        vec3 flux = density * (0.5 * abs(window_area));
+        if (!crossed || !(area > 1e-12)) {
+            if (squares) emit_corner_square(q[first], flux, photons_per_axis);
+            continue;
+        }
+        vec4 corner_clip[6];
+        vec2 corner_px[6];
+        float pixels = 0.0;
+        bool in_front = true;
+        for (int v = 0; v < n; ++v) {
+            corner_clip[v] = frame.camera_view_proj * vec4(p[v], 1.0);
+            corner_px[v] = target_pixel(corner_clip[v]);
+            in_front = in_front && corner_clip[v].w > frame.z_near;
+        }
+        // Its longest chord on the target, for a polygon thinner than a pixel across it.
+        float length_px = 0.0;
+        int end_0 = 0, end_1 = 1;
+        for (int v = 1; v < n; ++v) {
+            pixels += v + 1 < n ? 0.5 * abs(cross2(corner_px[v] - corner_px[0], corner_px[v + 1] - corner_px[0])) : 0.0;
+            for (int w = 0; w < v; ++w) {
+                float d = distance(corner_px[v], corner_px[w]);
+                if (d > length_px) { length_px = d; end_0 = w; end_1 = v; }
+            }
+        }
+        vec3 irradiance = flux / (area * frame.surface_irradiance);
+        // A polygon under a pixel across its longest chord would cover the pixel centres along
+        // it in a broken line, each with all of its irradiance (bright dots along a shadow's
+        // border): laid along that chord as a strip carrying its flux, as a thin triangle is.
+        if (in_front && squares && length_px > THIN_SLIVER_LENGTH
+            && (pixels < SLIVER_PIXELS || 2.0 * pixels < THIN_TRIANGLE_HEIGHT * length_px)) {
+            vec2 along = (corner_px[end_1] - corner_px[end_0]) / length_px;
+            vec2 across = vec2(-along.y, along.x);
+            vec2 centre_px = vec2(0.0);
+            for (int v = 0; v < n; ++v) centre_px += corner_px[v];
+            float middle = dot(centre_px / float(n) - corner_px[end_0], across);
+            emit_strip(corner_clip[end_0], corner_clip[end_1], across, middle, irradiance * pixels / length_px);
+            continue;
+        }
+        if (in_front && pixels < SLIVER_PIXELS && squares) {
+            vec3 centre = vec3(0.0);
+            for (int v = 0; v < n; ++v) centre += p[v];
+            CausticSplat s;
+            if (!caustic_square_on(centre / float(n), normal[q[first]], flux, 1.0, s)) continue; // off the target
+            s.irradiance.rgb = irradiance * pixels;
+            s.size = 2.0;
+            emit_square(s, sliver_footprint_code(target_pixel(s.clip), sqrt(pixels)));
+            continue;
+        }
+        // A convex polygon as a strip: 0, 1, n − 1, 2, n − 2, …
+        for (int v = 0; v < n; ++v) {
+            int corner = (v & 1) == 1 ? (v + 1) >> 1 : (n - (v >> 1)) % n;
+            gl_Position = corner_clip[corner];
+            g_irradiance = vec4(irradiance, 0.0);
+            EmitVertex();
+        }
+        EndPrimitive();
+    }
 }
 
 // Whether mesh cell (p00, p10, p01, p11) is split along its p00–p11 diagonal rather than its
@@ -641,8 +746,7 @@ void main() {
             normal[k] = landed[k] ? unit_receiver_normal(ph) : vec3(0.0);
             clip[k] = frame.camera_view_proj * vec4(ph.hit, 1.0);
             seen[k] = landed[k] && lit_side_faces_camera(ph.hit, normal[k], ph.direction);
-            returned[k] = vec3(0.0);
-            returned_quadrants[k] = 0;
+            in_cut_cell[k] = false;
             around_flux[k] = vec3(0.0);
             around_area[k] = 0.0;
             around_pixels[k] = 0.0;
@@ -678,78 +782,49 @@ void main() {
         }
     }
 #endif
+    // The mesh cells drawn whole on one receiver, and those cut at a receiver's border
+    // (emit_cut_cell), listed by their lower-left photon: drawn in one loop over the list, as
+    // search_borders lists its edges. llvmpipe runs a loop's body, masked, until no lane needs
+    // another pass, so a loop over every cell that skipped the others ran the cutting once
+    // per cell, where most invocations cut none (docs/performance.md, "The caustic triangles'
+    // masked work").
+    bool whole_cell[MAX_PHOTONS];
+    int cut_cells[MAX_PHOTONS];
+    int cut_count = 0;
     for (int j = 0; j + 1 < side; ++j) {
         for (int i = 0; i + 1 < side; ++i) {
-            if (!mesh_cell_drawn(cell, i, j)) continue;
             int p00 = j * side + i, p10 = p00 + 1, p01 = p00 + side, p11 = p01 + 1;
+            whole_cell[p00] = false;
+            if (!mesh_cell_drawn(cell, i, j)) continue;
 #ifdef CAUSTIC_REFINEMENT
             if (handed_on[p00]) continue;
 #endif
             bool split = split_along_p00_p11(p00, p10, p01, p11);
-            gather_triangle(p00, p10, split ? p11 : p01, QUARTER_PLUS_U_PLUS_V, QUARTER_MINUS_U_PLUS_V,
-                            split ? QUARTER_MINUS_U_MINUS_V : QUARTER_PLUS_U_MINUS_V);
-            gather_triangle(split ? p00 : p10, p11, p01, split ? QUARTER_PLUS_U_PLUS_V : QUARTER_MINUS_U_PLUS_V,
-                            QUARTER_MINUS_U_MINUS_V, QUARTER_PLUS_U_MINUS_V);
+            whole_cell[p00] = one_receiver(p00, p10, split ? p11 : p01) && one_receiver(split ? p00 : p10, p11, p01);
+            if (whole_cell[p00]) {
+                gather_triangle(p00, p10, split ? p11 : p01);
+                gather_triangle(split ? p00 : p10, p11, p01);
+            } else if (drawable(p00) || drawable(p10) || drawable(p01) || drawable(p11)) {
+                cut_cells[cut_count++] = p00;
+                in_cut_cell[p00] = in_cut_cell[p00] || drawable(p00);
+                in_cut_cell[p10] = in_cut_cell[p10] || drawable(p10);
+                in_cut_cell[p01] = in_cut_cell[p01] || drawable(p01);
+                in_cut_cell[p11] = in_cut_cell[p11] || drawable(p11);
+            }
         }
     }
     for (int j = 0; j + 1 < side; ++j) {
         for (int i = 0; i + 1 < side; ++i) {
-            if (!mesh_cell_drawn(cell, i, j)) continue;
             int p00 = j * side + i, p10 = p00 + 1, p01 = p00 + side, p11 = p01 + 1;
-#ifdef CAUSTIC_REFINEMENT
-            if (handed_on[p00]) continue;
-#endif
+            if (!whole_cell[p00]) continue;
             bool split = split_along_p00_p11(p00, p10, p01, p11);
             emit_triangle(p00, p10, split ? p11 : p01);
             emit_triangle(split ? p00 : p10, p11, p01);
         }
     }
     search_borders(side, photons_per_axis);
-    // The photons that draw a cell of handed-back flux, listed first and drawn in one loop
-    // over the list, as search_borders lists its edges: llvmpipe runs a loop's body, masked,
-    // until no lane needs another pass, so a loop over every photon that skipped the others
-    // ran the drawing below once per photon, where most invocations draw no cell at all
-    // (docs/performance.md, "The caustic triangles' masked work").
-    int cell_photons[MAX_PHOTONS];
-    int cell_count = 0;
-    for (int k = 0; k < side * side; ++k) {
-        if (draws_cell(k)) cell_photons[cell_count++] = k;
-    }
-    for (int listed = 0; listed < cell_count; ++listed) {
-        int k = cell_photons[listed];
-        int i = k % side, j = k / side;
-        vec3 du, dv;
-        int minus_u = i > 0 ? k - 1 : -1, plus_u = i + 1 < side ? k + 1 : -1;
-        int minus_v = j > 0 ? k - side : -1, plus_v = j + 1 < side ? k + side : -1;
-        if (footprint_edge(k, minus_u, plus_u, 0, mesh_photons_per_axis, du)
-            && footprint_edge(k, minus_v, plus_v, 1, mesh_photons_per_axis, dv)) {
-            int q = returned_quadrants[k];
-            vec4 reach = vec4(0.5);
-            if ((q & (QUARTER_MINUS_U_MINUS_V | QUARTER_MINUS_U_PLUS_V)) != 0) reach.x = cell_reach(k, minus_u);
-            if ((q & (QUARTER_PLUS_U_MINUS_V | QUARTER_PLUS_U_PLUS_V)) != 0) reach.y = cell_reach(k, plus_u);
-            if ((q & (QUARTER_MINUS_U_MINUS_V | QUARTER_PLUS_U_MINUS_V)) != 0) reach.z = cell_reach(k, minus_v);
-            if ((q & (QUARTER_MINUS_U_PLUS_V | QUARTER_PLUS_U_PLUS_V)) != 0) reach.w = cell_reach(k, plus_v);
-            if (emit_footprint(k, du, dv, reach)) continue;
-        }
-        float size = regulated_point_size(length(hit[k] - frame.camera_position), frame.z_near, frame.z_far,
-                                          frame.point_size_min, frame.point_size_max);
-        // No cell (a point light's photon with no neighbour's ray on its plane, or a corner
-        // behind the camera): a square, the
-        // photon's own footprint (its cell: two of the triangles around it) where that
-        // is smaller than the paper's distance rule: the rule's 5-20 px blurred the edge of
-        // every lit region by that much. Where the footprint is larger (faces the light
-        // grazes, whose cells stretch), the rule's size: footprint-sized squares there were
-        // grey blocks on the tank's cube, against faint streaks in the reference.
-        if (around_count[k] > 0.0) size = min(size, sqrt(2.0 * around_pixels[k] / around_count[k]));
-        else if (frame.light_is_point == 0.0) size = min(size, sqrt(cell_pixels(k, mesh_photons_per_axis)));
-        CausticSplat s;
-        size = clamp(round(size), 1.0, floor(frame.device_max_point_size));
-        if (caustic_square_on(hit[k], normal[k], returned[k], size, s)) { // a drawn cell's photon landed
-            // The receiver area per pixel from the drawn triangles around the photon, where
-            // it has any (see emit_triangle).
-            if (around_pixels[k] > 1e-4 && around_pixel_area[k] > 1e-12)
-                s.irradiance.rgb = returned[k] * around_pixels[k] / (size * size * around_pixel_area[k] * frame.surface_irradiance);
-            emit_square(s, -size);
-        }
+    for (int listed = 0; listed < cut_count; ++listed) {
+        int p00 = cut_cells[listed], p10 = p00 + 1, p01 = p00 + side, p11 = p01 + 1;
+        emit_cut_cell(p00, p10, p11, p01, mesh_photons_per_axis);
     }
 }
