@@ -21,7 +21,7 @@ pub(super) struct BenchArgs {
     #[arg(long, default_value_t = 30, value_parser = super::frame_count)]
     frames: u32,
     /// Frames rendered first and discarded (pipeline and cache warm-up).
-    #[arg(long, default_value_t = 5)]
+    #[arg(long, default_value_t = 5, value_parser = super::warmup_count)]
     warmup: u32,
     /// Also run each configuration with the peers of the geometry-shader photon path (vertex
     /// only, compute with atomic splats) and the raw splat floor, and report each one's time

@@ -93,12 +93,26 @@ fn output_side(text: &str) -> std::result::Result<u32, String> {
     Ok(v)
 }
 
+/// The most frames a command renders for `--frames` or `--warmup`: 100 000 is over ten hours
+/// of a frame on lavapipe and minutes on a GPU. The timings are kept per frame, so a count
+/// near u32's range would fill memory before it finished (`bench --soak` is the long run).
+const MAX_FRAMES: u32 = 100_000;
+
 /// `--frames` values: a whole number of frames, at least 1 (a command asked for none would
-/// otherwise render one and report it as the median of zero).
+/// otherwise render one and report it as the median of zero) and at most MAX_FRAMES.
 fn frame_count(text: &str) -> std::result::Result<u32, String> {
     let v: u32 = text.trim().parse().map_err(|_| format!("{text:?} is not a whole number of frames"))?;
-    if v == 0 {
-        return Err("must be at least 1".into());
+    if !(1..=MAX_FRAMES).contains(&v) {
+        return Err(format!("must be at least 1 and at most {MAX_FRAMES} (got {v})"));
+    }
+    Ok(v)
+}
+
+/// `--warmup` values: a whole number of frames rendered and discarded, 0 to MAX_FRAMES.
+fn warmup_count(text: &str) -> std::result::Result<u32, String> {
+    let v: u32 = text.trim().parse().map_err(|_| format!("{text:?} is not a whole number of frames"))?;
+    if v > MAX_FRAMES {
+        return Err(format!("must be at most {MAX_FRAMES} (got {v})"));
     }
     Ok(v)
 }

@@ -61,7 +61,7 @@ pub(super) struct SweepArgs {
     /// Timed frames per setting (median) and warm-up frames.
     #[arg(long, default_value_t = 5, value_parser = super::frame_count)]
     frames: u32,
-    #[arg(long, default_value_t = 2)]
+    #[arg(long, default_value_t = 2, value_parser = super::warmup_count)]
     warmup: u32,
     /// Animation time, seconds, and the step to the next frame for the flicker figure.
     #[arg(long, default_value_t = 1.0, value_parser = super::seconds, allow_hyphen_values = true)]
