@@ -32,6 +32,9 @@ pub enum Error {
     #[error("no embedded SPIR-V named {0:?}: run `underlight shaders` and rebuild")]
     MissingShader(String),
 
+    #[error("the window is {width}×{height} pixels, and the device could not allocate a swapchain that size ({result}): make the window smaller")]
+    WindowTooLarge { width: u32, height: u32, result: vk::Result },
+
     #[error("invalid parameter {name}: {message}")]
     InvalidParameter { name: &'static str, message: String },
 }

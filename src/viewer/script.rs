@@ -3,6 +3,7 @@
 //! `parse` reads a script; the viewer runs it a step at a time (`Script`).
 
 use super::Live;
+use crate::scene::file::MAX_OUTPUT_SIDE;
 use anyhow::{bail, Context as _, Result};
 use std::collections::VecDeque;
 use std::path::PathBuf;
@@ -72,7 +73,14 @@ pub fn parse(text: &str) -> Result<Vec<Step>> {
             "frames" => Step::Frames(arg.parse().with_context(bad)?),
             "resize" => {
                 let (w, h) = arg.split_once('x').with_context(|| format!("{}: expected WxH", bad()))?;
-                Step::Resize(w.parse().with_context(bad)?, h.parse().with_context(bad)?)
+                let (w, h): (u32, u32) = (w.parse().with_context(bad)?, h.parse().with_context(bad)?);
+                // As --width and --height: X11 keeps a window's side in 16 bits, so 100000
+                // became a 34464-pixel window whose swapchain no device could allocate. Zero is
+                // allowed: a window with no area is what the viewer must survive.
+                if w.max(h) > MAX_OUTPUT_SIDE {
+                    bail!("{}: a window's side is at most {MAX_OUTPUT_SIDE} pixels", bad());
+                }
+                Step::Resize(w, h)
             }
             "minimize" => Step::Minimize,
             "restore" => Step::Restore,
@@ -191,7 +199,8 @@ mod tests {
         assert_eq!(s[7], Step::Move(0.0, 0.0, 1.0));
         let s = parse("estimator,godray-method,density:godrays").unwrap();
         assert_eq!(s, [Step::NextEstimator, Step::NextGodrayMethod, Step::NextPhotonDensity(true)]);
-        for bad in ["frames:x", "resize:10", "toggle:fog", "move:1/2", "amplitude:nan", "jump"] {
+        for bad in ["frames:x", "resize:10", "resize:100000x100000", "toggle:fog", "move:1/2", "amplitude:nan", "jump"]
+        {
             let e = parse(bad).unwrap_err().to_string();
             assert!(e.contains("script step 1"), "{bad}: {e}");
         }

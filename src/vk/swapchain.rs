@@ -145,7 +145,14 @@ impl Swapchain {
             .clipped(true)
             .old_swapchain(old.map(|s| s.raw).unwrap_or_default());
         let loader = ash::khr::swapchain::Device::new(&device.instance.raw, &device.raw);
-        let raw = unsafe { loader.create_swapchain(&info, None) }.call("vkCreateSwapchainKHR")?;
+        // A window the device cannot hold a swapchain for (an X server grants windows far
+        // larger than its screen) is the window's fault, not the renderer's: say its size.
+        let raw = unsafe { loader.create_swapchain(&info, None) }.map_err(|result| match result {
+            vk::Result::ERROR_OUT_OF_DEVICE_MEMORY | vk::Result::ERROR_OUT_OF_HOST_MEMORY => {
+                Error::WindowTooLarge { width: extent.width, height: extent.height, result }
+            }
+            result => Error::Vk { call: "vkCreateSwapchainKHR", result },
+        })?;
         let mut swapchain = Self {
             raw,
             images: Vec::new(),
