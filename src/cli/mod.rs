@@ -84,13 +84,27 @@ pub(crate) fn run(cli: Cli) -> Result<i32> {
     }
 }
 
-/// `--width` / `--height` values: whole pixels, at least 1.
-fn output_side(text: &str) -> std::result::Result<u32, String> {
-    let v: u32 = text.trim().parse().map_err(|_| format!("{text:?} is not a whole number of pixels"))?;
-    if !(1..=MAX_OUTPUT_SIDE).contains(&v) {
-        return Err(format!("must be at least 1 and at most {MAX_OUTPUT_SIDE} (got {v})"));
+/// A whole number of `unit` within `range`, for the options that count things: the error
+/// names the text that is not a number, or the range and the value outside it.
+fn whole_number_in<T>(text: &str, unit: &str, range: std::ops::RangeInclusive<T>) -> std::result::Result<T, String>
+where
+    T: std::str::FromStr + PartialOrd + std::fmt::Display + Default,
+{
+    let v: T = text.trim().parse().map_err(|_| format!("{text:?} is not a whole number of {unit}"))?;
+    if !range.contains(&v) {
+        let (min, max) = (range.start(), range.end());
+        return Err(if *min == T::default() {
+            format!("must be at most {max} (got {v})")
+        } else {
+            format!("must be at least {min} and at most {max} (got {v})")
+        });
     }
     Ok(v)
+}
+
+/// `--width` / `--height` values: whole pixels, at least 1.
+fn output_side(text: &str) -> std::result::Result<u32, String> {
+    whole_number_in(text, "pixels", 1..=MAX_OUTPUT_SIDE)
 }
 
 /// The most frames a command renders for `--frames` or `--warmup`: 100 000 is over ten hours
@@ -101,20 +115,12 @@ const MAX_FRAMES: u32 = 100_000;
 /// `--frames` values: a whole number of frames, at least 1 (a command asked for none would
 /// otherwise render one and report it as the median of zero) and at most MAX_FRAMES.
 fn frame_count(text: &str) -> std::result::Result<u32, String> {
-    let v: u32 = text.trim().parse().map_err(|_| format!("{text:?} is not a whole number of frames"))?;
-    if !(1..=MAX_FRAMES).contains(&v) {
-        return Err(format!("must be at least 1 and at most {MAX_FRAMES} (got {v})"));
-    }
-    Ok(v)
+    whole_number_in(text, "frames", 1..=MAX_FRAMES)
 }
 
 /// `--warmup` values: a whole number of frames rendered and discarded, 0 to MAX_FRAMES.
 fn warmup_count(text: &str) -> std::result::Result<u32, String> {
-    let v: u32 = text.trim().parse().map_err(|_| format!("{text:?} is not a whole number of frames"))?;
-    if v > MAX_FRAMES {
-        return Err(format!("must be at most {MAX_FRAMES} (got {v})"));
-    }
-    Ok(v)
+    whole_number_in(text, "frames", 0..=MAX_FRAMES)
 }
 
 /// `--time` and `--step` values: finite seconds. A NaN or infinite clock reaches every wave

@@ -30,12 +30,8 @@ pub(super) struct ReferenceOptions {
 /// `--threads`: 0 (one per core) up to the reference's own limit, refused here before a
 /// scene is loaded rather than after.
 fn thread_count(text: &str) -> std::result::Result<usize, String> {
-    let v: usize = text.trim().parse().map_err(|_| format!("{text:?} is not a whole number of threads"))?;
-    let max = underlight::reference::MAX_THREADS;
-    if v > max {
-        return Err(format!("must be at most {max} (got {v}; 0: one per core)"));
-    }
-    Ok(v)
+    super::whole_number_in(text, "threads", 0..=underlight::reference::MAX_THREADS)
+        .map_err(|e| format!("{e}; 0 is one per core"))
 }
 
 impl ReferenceOptions {
