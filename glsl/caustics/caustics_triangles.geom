@@ -128,7 +128,13 @@ float cell_scale[MAX_PHOTONS]; // its grid cell's area over the even grid's (pho
 bool landed[MAX_PHOTONS];
 bool steep[MAX_PHOTONS];     // found in the second light maps (Photon::steep_map)
 bool seen[MAX_PHOTONS];      // landed on the side of its receiver the camera sees (lit_side_faces_camera)
-bool in_cut_cell[MAX_PHOTONS]; // a drawable corner (drawable) of a cut cell (emit_cut_cell)
+bool in_cut_cell[MAX_PHOTONS]; // a seen corner of a cut cell (emit_cut_cell)
+// Its cell's edges on its receiver's plane along the grid's u and v (footprint_edge), for a
+// cut cell's corner (cut_cell_edges); has_edge: whether footprint_edge found one.
+vec3 cell_edge_u[MAX_PHOTONS];
+vec3 cell_edge_v[MAX_PHOTONS];
+bool has_edge_u[MAX_PHOTONS];
+bool has_edge_v[MAX_PHOTONS];
 vec3 around_flux[MAX_PHOTONS]; // sums over the drawn triangles around each photon
 float around_area[MAX_PHOTONS];
 float around_pixels[MAX_PHOTONS];     // their pixels and world area, where in front of the
@@ -341,8 +347,8 @@ vec3 photon_irradiance(int k) {
     return around_flux[k] / (max(around_area[k], 1e-20) * frame.surface_irradiance);
 }
 
+// Draws triangle (a, b, c) of a cell drawn whole (its corners on one receiver, one_receiver).
 void emit_triangle(int a, int b, int c) {
-    if (!one_receiver(a, b, c)) return;
     float area = triangle_area(a, b, c);
     float pixels = triangle_pixels(a, b, c);
     bool sliver = pixels < SLIVER_PIXELS || !(area > 1e-12);
@@ -402,20 +408,14 @@ void emit_triangle(int a, int b, int c) {
 const int BORDER_BISECTIONS = 3;
 const int MAX_EDGES = 2 * MAX_SIDE * (MAX_SIDE - 1);
 
-// Whether photon k can carry a cut cell's light (emit_cut_cell): it landed, on the side of
-// its receiver the camera sees.
-bool drawable(int k) {
-    return landed[k] && seen[k];
-}
-
-// Whether the light runs on along grid edge k–m on one receiver: both ends drawable, each on
-// the other's receiver.
+// Whether the light runs on along grid edge k–m on one receiver: both ends seen (landed on
+// the side the camera sees), each on the other's receiver.
 bool edge_continuous(int k, int m) {
-    return drawable(k) && drawable(m) && on_receiver_of(k, hit[m], normal[m]) && on_receiver_of(m, hit[k], normal[k]);
+    return seen[k] && seen[m] && on_receiver_of(k, hit[m], normal[m]) && on_receiver_of(m, hit[k], normal[k]);
 }
 
 // Whether grid edge k → m crosses a receiver's border that a cut cell's polygon reaches: an
-// end is a cut cell's drawable corner (the others never read the border: the ring's photons
+// end is a cut cell's seen corner (the others never read the border: the ring's photons
 // past the grid's first, whose mesh cells its own invocations draw), and the light does not
 // run on along it.
 bool edge_crosses_border(int k, int m) {
@@ -439,7 +439,7 @@ void search_borders(int side, vec2 photons_per_axis) {
         bool along_u = (edges[e] & 1) == 0;
         int high = along_u ? low + 1 : low + side;
         // Search from the end the camera sees; the fraction is stored from the low end.
-        int from = drawable(low) ? low : high, to = from == low ? high : low;
+        int from = seen[low] ? low : high, to = from == low ? high : low;
         float inside = 0.0, outside = 1.0;
         for (int b = 0; b < BORDER_BISECTIONS; ++b) {
             float t = 0.5 * (inside + outside);
@@ -471,20 +471,36 @@ float border_from(int k, int m) {
     return k == low ? border : 1.0 - border;
 }
 
+// Each cut cell's corner's cell edges (footprint_edge), once per photon rather than once per
+// crossing that reads them, over a list of those photons (llvmpipe's masked loops).
+void cut_cell_edges(int side, vec2 photons_per_axis) {
+    int corners[MAX_PHOTONS];
+    int count = 0;
+    for (int k = 0; k < side * side; ++k) {
+        has_edge_u[k] = false;
+        has_edge_v[k] = false;
+        if (in_cut_cell[k]) corners[count++] = k;
+    }
+    for (int listed = 0; listed < count; ++listed) {
+        int k = corners[listed];
+        has_edge_u[k] = footprint_edge(k, 0, side, photons_per_axis, cell_edge_u[k]);
+        has_edge_v[k] = footprint_edge(k, 1, side, photons_per_axis, cell_edge_v[k]);
+    }
+}
+
 // Where the light on photon k's receiver ends along its grid edge towards neighbour m, which
 // lies `sign` (±1) along grid axis `axis` from it, at fraction f of the edge: on k's
-// receiver's plane, f of k's cell's edge there (footprint_edge), at most FOOTPRINT_MAX_EDGE
+// receiver's plane, f of k's cell's edge there (cut_cell_edges), at most FOOTPRINT_MAX_EDGE
 // pixels from k. `window`: the same fraction of the photon window between the places they
 // were cast. False where k's cell has no such edge. (The span to m's own ray alone, rather
 // than the cell's edge, which averages both neighbours' rays, put bright single pixels on
 // the tank's cube and the storage's floor: where m lands on another receiver, its ray can
 // meet k's plane anywhere.)
-bool border_crossing(int k, int m, int axis, float sign, float f, vec2 photons_per_axis, out vec3 p, out vec2 window) {
+bool border_crossing(int k, int m, int axis, float sign, float f, out vec3 p, out vec2 window) {
     window = mix(window_uv[k], window_uv[m], f);
     p = hit[k];
-    vec3 edge;
-    if (!footprint_edge(k, axis, int(SUBDIVISION) + 1, photons_per_axis, edge)) return false;
-    vec3 offset = f * sign * edge;
+    if (!(axis == 0 ? has_edge_u[k] : has_edge_v[k])) return false;
+    vec3 offset = f * sign * (axis == 0 ? cell_edge_u[k] : cell_edge_v[k]);
     vec4 far_end = frame.camera_view_proj * vec4(hit[k] + offset, 1.0);
     if (clip[k].w > frame.z_near && far_end.w > frame.z_near) {
         float length_px = distance(target_pixel(far_end), target_pixel(clip[k]));
@@ -551,12 +567,12 @@ void emit_cut_cell(int p00, int p10, int p11, int p01, vec2 photons_per_axis) {
     // A cell all of whose edges carry the light on (its triangles refused across a diagonal)
     // is one run of four, drawn as its quadrilateral.
     bool whole = continuous[0] && continuous[1] && continuous[2] && continuous[3];
-    // The runs' first corners (a drawable corner whose edge before it is broken), listed
+    // The runs' first corners (a seen corner whose edge before it is broken), listed
     // first and drawn in one loop over the list, as main lists the cut cells.
     int run_first[4];
     int runs = 0;
     for (int c = 0; c < 4; ++c) {
-        if (whole ? c == 0 : drawable(q[c]) && !continuous[(c + 3) & 3]) run_first[runs++] = c;
+        if (whole ? c == 0 : seen[q[c]] && !continuous[(c + 3) & 3]) run_first[runs++] = c;
     }
     bool squares = runs < 4;
     for (int run = 0; run < runs; ++run) {
@@ -578,10 +594,10 @@ void emit_cut_cell(int p00, int p10, int p11, int p01, vec2 photons_per_axis) {
         if (!whole) {
             int next = (last + 1) & 3, before = (first + 3) & 3;
             crossed = border_crossing(q[last], q[next], last & 1, cell_edge_sign(last),
-                                      border_from(q[last], q[next]), photons_per_axis, p[n], window[n]);
+                                      border_from(q[last], q[next]), p[n], window[n]);
             ++n;
             bool back = border_crossing(q[first], q[before], before & 1, -cell_edge_sign(before),
-                                        border_from(q[first], q[before]), photons_per_axis, p[n], window[n]);
+                                        border_from(q[first], q[before]), p[n], window[n]);
             crossed = crossed && back;
             ++n;
         }
@@ -760,6 +776,19 @@ void main() {
     // the two calls rather than in an if and an else with two calls each: llvmpipe runs
     // both sides of a branch for every lane, masked, and the triangles are most of the
     // shader's work (docs/performance.md, "One copy of the search").
+    // Each mesh cell's split (split_along_p00_p11) and whether it is drawn whole, its two
+    // triangles on one receiver, by its lower-left photon.
+    bool split_cell[MAX_PHOTONS];
+    bool whole_cell[MAX_PHOTONS];
+    for (int j = 0; j + 1 < side; ++j) {
+        for (int i = 0; i + 1 < side; ++i) {
+            int p00 = j * side + i, p10 = p00 + 1, p01 = p00 + side, p11 = p01 + 1;
+            split_cell[p00] = split_along_p00_p11(p00, p10, p01, p11);
+            bool split = split_cell[p00];
+            whole_cell[p00] = mesh_cell_drawn(cell, i, j) && one_receiver(p00, p10, split ? p11 : p01)
+                           && one_receiver(split ? p00 : p10, p11, p01);
+        }
+    }
 #ifdef CAUSTIC_REFINEMENT
     // Which mesh cells this invocation hands to the refinement draw (indexed by their
     // lower-left photon): those with a refused triangle and a corner the camera sees.
@@ -768,11 +797,9 @@ void main() {
     if (!REFINED_DRAW) {
         for (int j = 0; j + 1 < side; ++j) {
             for (int i = 0; i + 1 < side; ++i) {
-                if (!mesh_cell_drawn(cell, i, j)) continue;
                 int p00 = j * side + i, p10 = p00 + 1, p01 = p00 + side, p11 = p01 + 1;
-                bool split = split_along_p00_p11(p00, p10, p01, p11);
-                bool drawn_whole = one_receiver(p00, p10, split ? p11 : p01) && one_receiver(split ? p00 : p10, p11, p01);
-                if (drawn_whole || !(seen[p00] || seen[p10] || seen[p01] || seen[p11])) continue;
+                if (!mesh_cell_drawn(cell, i, j) || whole_cell[p00] || !(seen[p00] || seen[p10] || seen[p01] || seen[p11]))
+                    continue;
                 uint slot = atomicAdd(refined.vertex_count, 1u);
                 // A full list: the cell is drawn here, as without refinement.
                 if (slot >= uint(refined.first_photon.length())) continue;
@@ -782,47 +809,44 @@ void main() {
         }
     }
 #endif
-    // The mesh cells drawn whole on one receiver, and those cut at a receiver's border
-    // (emit_cut_cell), listed by their lower-left photon: drawn in one loop over the list, as
-    // search_borders lists its edges. llvmpipe runs a loop's body, masked, until no lane needs
-    // another pass, so a loop over every cell that skipped the others ran the cutting once
-    // per cell, where most invocations cut none (docs/performance.md, "The caustic triangles'
-    // masked work").
-    bool whole_cell[MAX_PHOTONS];
+    // The mesh cells cut at a receiver's border (emit_cut_cell), listed by their lower-left
+    // photon: drawn in one loop over the list, as search_borders lists its edges. llvmpipe
+    // runs a loop's body, masked, until no lane needs another pass, so a loop over every cell
+    // that skipped the others ran the cutting once per cell, where most invocations cut none
+    // (docs/performance.md, "The caustic triangles' masked work").
     int cut_cells[MAX_PHOTONS];
     int cut_count = 0;
     for (int j = 0; j + 1 < side; ++j) {
         for (int i = 0; i + 1 < side; ++i) {
             int p00 = j * side + i, p10 = p00 + 1, p01 = p00 + side, p11 = p01 + 1;
-            whole_cell[p00] = false;
-            if (!mesh_cell_drawn(cell, i, j)) continue;
+            if (whole_cell[p00]) {
+                bool split = split_cell[p00];
+                gather_triangle(p00, p10, split ? p11 : p01);
+                gather_triangle(split ? p00 : p10, p11, p01);
+                continue;
+            }
 #ifdef CAUSTIC_REFINEMENT
             if (handed_on[p00]) continue;
 #endif
-            bool split = split_along_p00_p11(p00, p10, p01, p11);
-            whole_cell[p00] = one_receiver(p00, p10, split ? p11 : p01) && one_receiver(split ? p00 : p10, p11, p01);
-            if (whole_cell[p00]) {
-                gather_triangle(p00, p10, split ? p11 : p01);
-                gather_triangle(split ? p00 : p10, p11, p01);
-            } else if (drawable(p00) || drawable(p10) || drawable(p01) || drawable(p11)) {
-                cut_cells[cut_count++] = p00;
-                in_cut_cell[p00] = in_cut_cell[p00] || drawable(p00);
-                in_cut_cell[p10] = in_cut_cell[p10] || drawable(p10);
-                in_cut_cell[p01] = in_cut_cell[p01] || drawable(p01);
-                in_cut_cell[p11] = in_cut_cell[p11] || drawable(p11);
-            }
+            if (!mesh_cell_drawn(cell, i, j) || !(seen[p00] || seen[p10] || seen[p01] || seen[p11])) continue;
+            cut_cells[cut_count++] = p00;
+            in_cut_cell[p00] = in_cut_cell[p00] || seen[p00];
+            in_cut_cell[p10] = in_cut_cell[p10] || seen[p10];
+            in_cut_cell[p01] = in_cut_cell[p01] || seen[p01];
+            in_cut_cell[p11] = in_cut_cell[p11] || seen[p11];
         }
     }
     for (int j = 0; j + 1 < side; ++j) {
         for (int i = 0; i + 1 < side; ++i) {
             int p00 = j * side + i, p10 = p00 + 1, p01 = p00 + side, p11 = p01 + 1;
             if (!whole_cell[p00]) continue;
-            bool split = split_along_p00_p11(p00, p10, p01, p11);
+            bool split = split_cell[p00];
             emit_triangle(p00, p10, split ? p11 : p01);
             emit_triangle(split ? p00 : p10, p11, p01);
         }
     }
     search_borders(side, photons_per_axis);
+    cut_cell_edges(side, mesh_photons_per_axis);
     for (int listed = 0; listed < cut_count; ++listed) {
         int p00 = cut_cells[listed], p10 = p00 + 1, p01 = p00 + side, p11 = p01 + 1;
         emit_cut_cell(p00, p10, p11, p01, mesh_photons_per_axis);
