@@ -37,8 +37,9 @@
 //     that receiver ends, found by bisecting the grid edge (search_borders). A crossing lies
 //     on the corner's receiver's plane, along the photon differential (footprint_edge: the
 //     span of its grid neighbours' refracted rays on that plane, which needs their rays, not
-//     their hits; where no neighbour's ray meets the plane, a deck's or a rail's shadow, the
-//     photon's own ray a grid step over, parallel_footprint_edge). The polygon carries the
+//     their hits; where no neighbour's ray meets the plane, a deck's or a rail's shadow, a
+//     ray cast from the light a grid step over and refracted as the photon's own was,
+//     parallel_footprint_edge). The polygon carries the
 //     light through its own part of the photon window, so a border is drawn as the straight
 //     line between its crossings and carries the light up to it.
 //     (Before, a refused triangle handed a third of its flux to each landed corner, and each
@@ -48,8 +49,8 @@
 //     holes 0.30 / 0.21 / 1.56 % → 0.07 / 0.10 / 0.94 %; at the scenes' own sizes 0.839 /
 //     1.316 / 1.227 → 0.833 / 1.312 / 1.206, holes 0.99 / 0.77 / 1.82 % → 0.79 / 0.56 /
 //     1.67 %; flux 0.05–0.3 % lower; docs/accuracy.md, "Cells cut at receivers' borders".)
-//     A corner whose polygon cannot be had (a point light's photon with no neighbour's ray
-//     on its plane) draws a square the size of its footprint or of the paper's points,
+//     A corner whose polygon cannot be had (a photon whose ray runs along its receiver's
+//     plane) draws a square the size of its footprint or of the paper's points,
 //     whichever is smaller. (Squares everywhere were the tank's most visible flaw: dots of
 //     light on its ledge, its cube's face and its rocks, where the light grazes a face and
 //     a row or two of photons lands on it.)
@@ -309,22 +310,45 @@ bool ray_on_receiver_plane(int m, int k, out vec3 q) {
 }
 
 // The edge of photon k's cell along grid axis `axis` (0: u, 1: v) from its own refracted ray:
-// the neighbour's ray taken parallel to k's, entering the water one grid step away (the step
-// isotropic under the view's warp: its area is the warped cell's). A directional light's
-// only (a point light's rays spread). False where k never refracted, or its ray runs along
-// its receiver's plane.
+// the neighbour's ray cast from the light one grid step away (the step isotropic under the
+// view's warp: its area is the warped cell's), entering the water's plane at k's entry and
+// refracted by k's water normal, where it meets k's receiver's plane. A directional light's
+// neighbour ray is k's own taken parallel, so its edge needs no refraction; a point light's
+// rays spread, and its neighbour is refracted by the normal that refracted k's (the slit of
+// tests/method.rs::point_light_through_a_slit…, whose strip read 1.57 of the exact law in
+// squares without it). False where k never refracted, or a ray runs along the plane.
 bool parallel_footprint_edge(int k, int axis, vec2 photons_per_axis, out vec3 edge) {
     edge = vec3(0.0);
-    if (frame.light_is_point != 0.0 || !(dot(direction[k], direction[k]) > 0.5)) return false;
-    // The light's window is orthographic: an NDC step of 2 spans it.
-    vec4 across = axis == 0 ? vec4(2.0, 0.0, 0.0, 0.0) : vec4(0.0, 2.0, 0.0, 0.0);
-    vec3 step = (frame.light_inv_view_proj * across).xyz * frame.photon_window_size[axis]
-              / photons_per_axis[axis] * sqrt(cell_scale[k]);
-    // Along the light to the water's level, then along the refracted ray to the plane.
-    vec3 at_water = step - frame.light_axis * (step.y / min(frame.light_axis.y, -1e-3));
+    if (!(dot(direction[k], direction[k]) > 0.5)) return false;
     float denom = dot(direction[k], normal[k]);
-    if (abs(denom) <= 1e-3) return false;
-    edge = at_water - direction[k] * (dot(at_water, normal[k]) / denom);
+    if (frame.light_is_point == 0.0) {
+        // The light's window is orthographic: an NDC step of 2 spans it.
+        vec4 across = axis == 0 ? vec4(2.0, 0.0, 0.0, 0.0) : vec4(0.0, 2.0, 0.0, 0.0);
+        vec3 step = (frame.light_inv_view_proj * across).xyz * frame.photon_window_size[axis]
+                  / photons_per_axis[axis] * sqrt(cell_scale[k]);
+        // Along the light to the water's level, then along the refracted ray to the plane.
+        vec3 at_water = step - frame.light_axis * (step.y / min(frame.light_axis.y, -1e-3));
+        if (abs(denom) <= 1e-3) return false;
+        edge = at_water - direction[k] * (dot(at_water, normal[k]) / denom);
+        return true;
+    }
+    vec2 ndc = (frame.photon_window_min + window_uv[k] * frame.photon_window_size) * 2.0 - 1.0;
+    ndc[axis] += 2.0 * frame.photon_window_size[axis] / photons_per_axis[axis] * sqrt(cell_scale[k]);
+    vec4 a = frame.light_inv_view_proj * vec4(ndc, 0.0, 1.0);
+    vec4 b = frame.light_inv_view_proj * vec4(ndc, 1.0, 1.0);
+    vec3 o = a.xyz / a.w;
+    vec3 d = normalize(b.xyz / b.w - o);
+    if (!(d.y < -1e-3)) return false;
+    // Snell's law in vectors: incident − ior · refracted lies along the water's normal.
+    vec3 incident = normalize(surface[k] - frame.light_position);
+    vec3 water_normal = normalize(incident - frame.ior * direction[k]);
+    vec3 entry = o + d * ((surface[k].y - o.y) / d.y);
+    vec3 refracted = refract(d, water_normal, 1.0 / frame.ior);
+    float along = dot(refracted, normal[k]);
+    if (dot(refracted, refracted) == 0.0 || abs(along) <= 1e-3) return false;
+    float t = dot(hit[k] - entry, normal[k]) / along;
+    if (!(t > 0.0)) return false;
+    edge = entry + t * refracted - hit[k];
     return true;
 }
 
@@ -510,8 +534,9 @@ bool border_crossing(int k, int m, int axis, float sign, float f, out vec3 p, ou
     return true;
 }
 
-// A square for the light of a cut cell's corner k that has no polygon (a point light's photon
-// with no neighbour's ray on its plane, or a polygon without area): the photon's own
+// A square for the light of a cut cell's corner k that has no polygon (a photon whose ray
+// runs along its receiver's plane, so that it has no cell edge there, or a polygon without
+// area): the photon's own
 // footprint (its cell: two of the triangles around it) where that is smaller than the paper's
 // distance rule, whose 5-20 px blurred the edge of every lit region by that much. Where the
 // footprint is larger (faces the light grazes, whose cells stretch), the rule's size:
