@@ -7,6 +7,18 @@ use crate::error::{Error, Result, VkResultExt};
 use ash::vk;
 use std::sync::Arc;
 
+/// What a failed `vkCreateSwapchainKHR` for a window of `extent` means. A window the device
+/// cannot hold a swapchain for (an X server grants windows far larger than its screen) is the
+/// window's fault, not the renderer's: the error says its size and to shrink it.
+fn swapchain_error(extent: vk::Extent2D, result: vk::Result) -> Error {
+    match result {
+        vk::Result::ERROR_OUT_OF_DEVICE_MEMORY | vk::Result::ERROR_OUT_OF_HOST_MEMORY => {
+            Error::WindowTooLarge { width: extent.width, height: extent.height, result }
+        }
+        result => Error::Vk { call: "vkCreateSwapchainKHR", result },
+    }
+}
+
 /// How images are presented (`--present-mode`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PresentMode {
@@ -145,14 +157,7 @@ impl Swapchain {
             .clipped(true)
             .old_swapchain(old.map(|s| s.raw).unwrap_or_default());
         let loader = ash::khr::swapchain::Device::new(&device.instance.raw, &device.raw);
-        // A window the device cannot hold a swapchain for (an X server grants windows far
-        // larger than its screen) is the window's fault, not the renderer's: say its size.
-        let raw = unsafe { loader.create_swapchain(&info, None) }.map_err(|result| match result {
-            vk::Result::ERROR_OUT_OF_DEVICE_MEMORY | vk::Result::ERROR_OUT_OF_HOST_MEMORY => {
-                Error::WindowTooLarge { width: extent.width, height: extent.height, result }
-            }
-            result => Error::Vk { call: "vkCreateSwapchainKHR", result },
-        })?;
+        let raw = unsafe { loader.create_swapchain(&info, None) }.map_err(|result| swapchain_error(extent, result))?;
         let mut swapchain = Self {
             raw,
             images: Vec::new(),
@@ -212,5 +217,22 @@ impl Drop for Swapchain {
             }
             self.loader.destroy_swapchain(self.raw, None);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_swapchain_the_device_cannot_allocate_names_the_window_s_size() {
+        let extent = vk::Extent2D { width: 34464, height: 34464 };
+        for result in [vk::Result::ERROR_OUT_OF_DEVICE_MEMORY, vk::Result::ERROR_OUT_OF_HOST_MEMORY] {
+            let message = swapchain_error(extent, result).to_string();
+            assert!(message.contains("34464×34464") && message.contains("smaller"), "{message}");
+        }
+        // Other failures stay the driver's, named by the call.
+        let message = swapchain_error(extent, vk::Result::ERROR_SURFACE_LOST_KHR).to_string();
+        assert!(message.contains("vkCreateSwapchainKHR") && !message.contains("smaller"), "{message}");
     }
 }
