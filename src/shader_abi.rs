@@ -163,7 +163,7 @@ pub mod limits {
     pub const MAX_SUBDIVISION: u32 = 8;
 
     /// Largest subdivision of the triangle estimator (GLSL `TRIANGLE_MAX_SUBDIVISION`): at 3 an
-    /// invocation emits at most 112 vertices of 8 components, 896 of the 1024 every
+    /// invocation emits at most 108 vertices of 8 components, 864 of the 1024 every
     /// geometry-shader device offers (the bound is derived in caustics_triangles.geom).
     pub const TRIANGLE_MAX_SUBDIVISION: u32 = 3;
 
