@@ -18,14 +18,7 @@ the fill's in the filled pixels. Pure Python, like the scripts beside it.
 """
 import sys
 
-from pfm import read_pfm
-
-
-def load(path):
-    w, h, c, values = read_pfm(path)
-    if c != 3:
-        sys.exit("%s: expected an RGB PFM" % path)
-    return w, h, values
+from pfm import read_rgb_pfms
 
 
 def window_all(w, h, mask, r):
@@ -49,14 +42,7 @@ def window_all(w, h, mask, r):
 def main():
     if len(sys.argv) != 4:
         sys.exit(__doc__)
-    w, h, gpu = load(sys.argv[1])
-    sizes = {(w, h)}
-    w2, h2, ref = load(sys.argv[2])
-    sizes.add((w2, h2))
-    w3, h3, flat = load(sys.argv[3])
-    sizes.add((w3, h3))
-    if len(sizes) != 1:
-        sys.exit("the three buffers differ in size: %s" % sorted(sizes))
+    w, h, (gpu, ref, flat) = read_rgb_pfms(sys.argv[1:4])
     n = w * h
     ref0 = ref[0::3]
     nonzero = [v for v in ref0 if v > 0.0]

@@ -16,14 +16,7 @@ N pixels taken from the first. Pure Python, like the scripts beside it.
 """
 import sys
 
-from pfm import read_pfm
-
-
-def load(path):
-    w, h, c, values = read_pfm(path)
-    if c != 3:
-        sys.exit("%s: expected an RGB PFM" % path)
-    return w, h, values
+from pfm import read_rgb_pfms
 
 
 def relative_rmse(buffer, ref):
@@ -34,14 +27,7 @@ def relative_rmse(buffer, ref):
 def main():
     if len(sys.argv) not in (4, 5):
         sys.exit(__doc__)
-    w, h, ref = load(sys.argv[1])
-    sizes = {(w, h)}
-    w2, h2, before = load(sys.argv[2])
-    sizes.add((w2, h2))
-    w3, h3, after = load(sys.argv[3])
-    sizes.add((w3, h3))
-    if len(sizes) != 1:
-        sys.exit("the three buffers differ in size: %s" % sorted(sizes))
+    w, h, (ref, before, after) = read_rgb_pfms(sys.argv[1:4])
     count = int(sys.argv[4]) if len(sys.argv) == 5 else 5
 
     def pixel_error(buffer, i):
