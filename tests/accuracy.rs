@@ -220,9 +220,9 @@ fn refinement_at_receivers_borders_fills_holes_and_keeps_the_flux() {
     // finer (caustics_triangles.geom). Measured on lavapipe against this 8M-photon reference:
     // holes 0.52 % → 0.18 %, relative RMSE 0.394 → 0.374, flux −1.4 % → −0.8 % since the mesh
     // cells across receivers' borders are cut (1.05 % → 0.30 %, 0.407 → 0.379, −1.0 % → −0.7 %
-    // before; against a 64M-photon one 1.73 % → 0.73 %, 0.376 → 0.345). A second draw that drew nothing would
-    // leave its cells' light out (holes up, flux down by their share); one that drew the
-    // grid's cells again would add their light twice.
+    // before; against a 64M-photon one 1.73 % → 0.73 %, 0.376 → 0.345). A second draw that
+    // drew nothing would leave its cells' light out (holes up, flux down by their share); one
+    // that drew the grid's cells again would add their light twice.
     let variants: Vec<(String, Scene)> = [false, true]
         .iter()
         .map(|&refine| {

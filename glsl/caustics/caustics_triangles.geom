@@ -39,9 +39,9 @@
 //     span of its grid neighbours' refracted rays on that plane, which needs their rays, not
 //     their hits; where no neighbour's ray meets the plane, a deck's or a rail's shadow, a
 //     ray cast from the light a grid step over and refracted as the photon's own was,
-//     parallel_footprint_edge). The polygon carries the
-//     light through its own part of the photon window, so a border is drawn as the straight
-//     line between its crossings and carries the light up to it.
+//     parallel_footprint_edge). The polygon carries the light through its own part of the
+//     photon window, so a border is drawn as the straight line between its crossings and
+//     carries the light up to it.
 //     (Before, a refused triangle handed a third of its flux to each landed corner, and each
 //     drew it over the bounding box of its cell's quarters, out to the borders: the borders
 //     were staircases, and a slit narrower than the photons' spacing read 4/3 of its light at
@@ -50,8 +50,8 @@
 //     1.316 / 1.227 → 0.833 / 1.312 / 1.206, holes 0.99 / 0.77 / 1.82 % → 0.79 / 0.56 /
 //     1.67 %; flux 0.05–0.3 % lower; docs/accuracy.md, "Cells cut at receivers' borders".)
 //     A corner whose polygon cannot be had (a photon whose ray runs along its receiver's
-//     plane) draws a square the size of its footprint or of the paper's points,
-//     whichever is smaller. (Squares everywhere were the tank's most visible flaw: dots of
+//     plane) draws a square the size of its footprint or of the paper's points, whichever
+//     is smaller. (Squares everywhere were the tank's most visible flaw: dots of
 //     light on its ledge, its cube's face and its rocks, where the light grazes a face and
 //     a row or two of photons lands on it.)
 // Measured on the tank at 320×200 against the reference (relative RMSE, flux), with flat
@@ -320,7 +320,6 @@ bool ray_on_receiver_plane(int m, int k, out vec3 q) {
 bool parallel_footprint_edge(int k, int axis, vec2 photons_per_axis, out vec3 edge) {
     edge = vec3(0.0);
     if (!(dot(direction[k], direction[k]) > 0.5)) return false;
-    float denom = dot(direction[k], normal[k]);
     if (frame.light_is_point == 0.0) {
         // The light's window is orthographic: an NDC step of 2 spans it.
         vec4 across = axis == 0 ? vec4(2.0, 0.0, 0.0, 0.0) : vec4(0.0, 2.0, 0.0, 0.0);
@@ -328,6 +327,7 @@ bool parallel_footprint_edge(int k, int axis, vec2 photons_per_axis, out vec3 ed
                   / photons_per_axis[axis] * sqrt(cell_scale[k]);
         // Along the light to the water's level, then along the refracted ray to the plane.
         vec3 at_water = step - frame.light_axis * (step.y / min(frame.light_axis.y, -1e-3));
+        float denom = dot(direction[k], normal[k]);
         if (abs(denom) <= 1e-3) return false;
         edge = at_water - direction[k] * (dot(at_water, normal[k]) / denom);
         return true;
@@ -536,9 +536,9 @@ bool border_crossing(int k, int m, int axis, float sign, float f, out vec3 p, ou
 
 // A square for the light of a cut cell's corner k that has no polygon (a photon whose ray
 // runs along its receiver's plane, so that it has no cell edge there, or a polygon without
-// area): the photon's own
-// footprint (its cell: two of the triangles around it) where that is smaller than the paper's
-// distance rule, whose 5-20 px blurred the edge of every lit region by that much. Where the
+// area): the photon's own footprint (its cell: two of the triangles around it) where that is
+// smaller than the paper's distance rule, whose 5-20 px blurred the edge of every lit region
+// by that much. Where the
 // footprint is larger (faces the light grazes, whose cells stretch), the rule's size:
 // footprint-sized squares there were grey blocks on the tank's cube, against faint streaks
 // in the reference.
