@@ -1,6 +1,6 @@
 #version 450
-// Scene meshes from the light: world position and normal for the receiver maps. The geometry
-// shader (shadow.geom) projects them.
+// Scene meshes from the light: world position for the receiver maps, and the vertex normal,
+// which orients each triangle's plane. The geometry shader (shadow.geom) projects them.
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
 
