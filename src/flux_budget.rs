@@ -130,6 +130,11 @@ pub const PLACED_CLOSE: f64 = 0.01;
 /// facet of a rock.
 pub const PLACED_NEAR: f64 = 0.05;
 
+/// A landed footprint point's record code where its footprint was larger than the device's
+/// largest point, which drew it (glsl/caustics/caustics.geom, FOOTPRINT_POINTS with
+/// PHOTON_DEBUG); a landed photon's is otherwise 1.
+pub const FOOTPRINT_CLAMPED: f32 = 3.0;
+
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FluxBudget {
     pub cast: u64,
@@ -139,6 +144,10 @@ pub struct FluxBudget {
     /// Beams drawn although their iteration did not converge (a beam keeps its photon there:
     /// its line is right up to the last few centimetres). None for caustic photons.
     pub landed_unconverged: Share,
+    /// Of the landed photons, the footprint points whose footprint the device's largest point
+    /// clamped (`effects.caustic_estimator = "footprint"`): their light lies on fewer pixels,
+    /// brighter, than their footprint.
+    pub footprint_clamped: Share,
     /// Per reason, in `DropReason::ALL` order: the flux the photons carried towards the water.
     pub dropped: [Share; 9],
     /// Records whose code is none of the above (a shader and this module out of step).
@@ -167,7 +176,10 @@ impl FluxBudget {
             }
             let (code, flux) = (pair[0][3], pair[1][3] as f64);
             budget.cast += 1;
-            if code > 1.5 {
+            if code > FOOTPRINT_CLAMPED - 0.5 {
+                budget.landed.add(flux);
+                budget.footprint_clamped.add(flux);
+            } else if code > 1.5 {
                 budget.landed_unconverged.add(flux);
             } else if code > 0.5 {
                 budget.landed.add(flux);
@@ -344,6 +356,16 @@ impl fmt::Display for FluxBudget {
             self.landed.watts,
             pct(self.landed.watts)
         )?;
+        if self.footprint_clamped.photons > 0 {
+            writeln!(
+                f,
+                "{:<44} {:>10} {:>12.5} {:>6.2}%",
+                "  of them footprints clamped to the largest point",
+                self.footprint_clamped.photons,
+                self.footprint_clamped.watts,
+                pct(self.footprint_clamped.watts)
+            )?;
+        }
         if self.landed_unconverged.photons > 0 {
             writeln!(
                 f,

@@ -70,6 +70,14 @@ pub struct Variant {
 pub const VARIANTS: &[Variant] = &[
     // Every photon's cast recorded for the tests (glsl/caustics/caustics.geom).
     Variant { name: "caustics_debug.geom", source: "caustics/caustics.geom", defines: &["PHOTON_DEBUG"] },
+    // Footprint-sized points (effects.caustic_estimator = "footprint"), and recording.
+    Variant { name: "caustics_footprint.geom", source: "caustics/caustics.geom", defines: &["FOOTPRINT_POINTS"] },
+    Variant {
+        name: "caustics_footprint_debug.geom",
+        source: "caustics/caustics.geom",
+        defines: &["FOOTPRINT_POINTS", "PHOTON_DEBUG"],
+    },
+    Variant { name: "caustics_footprint.frag", source: "caustics/caustics.frag", defines: &["FOOTPRINT_POINTS"] },
     // The caustic triangles with refinement at receivers' borders (effects.caustic_refinement):
     // the grid's draw hands cells on, the refinement draw casts them finer. Its own program,
     // since its stores need vertexPipelineStoresAndAtomics.

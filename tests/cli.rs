@@ -23,7 +23,7 @@ fn bad_command_lines_are_named_errors() {
         (vec!["sweep".into(), "--width".into(), "1.5".into()], "not a whole number of pixels"),
         (vec!["view".into(), "--present-mode".into(), "vsync".into()], "fifo, mailbox, immediate"),
         (vec!["sweep".into(), "--filter".into(), "maybe".into()], "on, off"),
-        (vec!["sweep".into(), "--estimator".into(), "splats".into()], "there are paper, triangles"),
+        (vec!["sweep".into(), "--estimator".into(), "splats".into()], "there are paper, footprint, triangles"),
         (vec!["bench".into(), "--config".into(), "paper-9000".into()], "unknown"),
         (vec!["bench".into(), "--config".into(), "tiny".into(), "--frames".into(), "0".into()], "at least 1"),
         (vec!["render".into(), "--frobnicate".into()], "--frobnicate"),

@@ -254,6 +254,47 @@ fn triangle_estimator_at_the_extremes() {
 }
 
 #[test]
+fn footprint_points_at_the_extremes() {
+    // The footprint-sized points carry the paper's points' light from the zenith to a sun at
+    // 1° (their footprints stretch with the light's slant), and stay finite and
+    // validation-clean where the waves fold their cells, under a 1 cm wavelength, on the
+    // coarsest grid they take (whose footprints pass the device's largest point: clamped) and
+    // at the largest subdivision.
+    use underlight::scene::CausticEstimator;
+    let ctx = validated_context();
+    let footprint = |mut s: Scene| {
+        s.effects.caustic_estimator = CausticEstimator::Footprint;
+        s
+    };
+    for elevation in [90.0f32, 30.0, 10.0, 1.0] {
+        let mut s = overview(0.0);
+        s.light.direction = if elevation == 90.0 { Vec3::NEG_Y } else { sun(elevation, 30.0) };
+        let points = overview_flux(&ctx, &s, 0.0, &format!("points, sun at {elevation}°"));
+        let fp = overview_flux(&ctx, &footprint(s), 0.0, &format!("footprint points, sun at {elevation}°"));
+        assert!(fp > 0.0, "footprint points: nothing on the floor at {elevation}°");
+        assert!(
+            (fp / points - 1.0).abs() < 0.05,
+            "flat water, sun at {elevation}°: points {points} W, footprints {fp} W"
+        );
+    }
+    let mut violent = overview(0.3);
+    violent.water.wavelength = 0.5;
+    overview_flux(&ctx, &footprint(violent), 0.7, "footprint points, violent waves");
+    let mut short = overview(0.002);
+    short.water.wavelength = 0.01;
+    overview_flux(&ctx, &footprint(short), 0.0, "footprint points, 1 cm wavelength");
+    let mut coarsest = overview(0.04);
+    coarsest.effects.caustic_grid = 1;
+    coarsest.effects.caustic_subdivision = CausticEstimator::Footprint.min_subdivision();
+    overview_flux(&ctx, &footprint(coarsest), 0.0, "footprint points, 1×1 grid of 2×2 photons");
+    let mut most = overview(0.04);
+    most.effects.caustic_grid = 24;
+    most.effects.caustic_subdivision = CausticEstimator::Footprint.max_subdivision();
+    overview_flux(&ctx, &footprint(most), 0.0, "footprint points, subdivision at the output limit");
+    assert_clean_shutdown(ctx);
+}
+
+#[test]
 fn medium_at_its_limits() {
     let ctx = validated_context();
     let mut clear = overview(0.04);

@@ -188,3 +188,40 @@ fn footprint_beams_record_the_same_beams_as_lines() {
     let drawn = lines.chunks_exact(2).filter(|pair| pair[0][3] > 0.5).count();
     assert!(drawn > lines.len() / 4, "only {drawn} beams drawn");
 }
+
+#[test]
+fn footprint_points_report_the_footprints_the_device_clamped() {
+    // effects.caustic_estimator = "footprint": each point is as large as its photon's cell on
+    // its receiver, up to the device's largest point. The flux budget records the points
+    // that bound clamped (record code FOOTPRINT_CLAMPED), with their photons still landed.
+    // With the tank's 100² × 3² photons at 160×100 only a few on the walls the camera grazes
+    // reach it (measured on lavapipe, whose largest point is 255 px: 17 of 85 054, 0.09 % of
+    // the light); a 1×1 grid of 2 × 2 photons gives each a quarter of the pool, larger than
+    // any point (2 of the 4 that land, 32 % of the light).
+    let ctx = validated_context();
+    let mut clamped = Vec::new();
+    for (grid, subdivision) in [(100, 3), (1, 2)] {
+        let mut scene = underlight::scene::load("tank").unwrap();
+        scene.effects.caustic_estimator = CausticEstimator::Footprint;
+        scene.effects.caustic_grid = grid;
+        scene.effects.caustic_subdivision = subdivision;
+        scene.effects.godrays = false;
+        scene.effects.shadow_map_size = 512;
+        let (images, u) = recorded_frame(&ctx, &scene);
+        let budget = FluxBudget::from_records(&images.photon_records.expect("photon records"));
+        eprintln!(
+            "{grid}² × {subdivision}²: {} of {} landed footprints clamped to {} px\n{budget}",
+            budget.footprint_clamped.photons, budget.landed.photons, u.device_max_point_size
+        );
+        assert!(budget.landed.photons > 0, "{grid}² × {subdivision}²: nothing landed");
+        assert!(budget.footprint_clamped.photons <= budget.landed.photons);
+        clamped.push((budget.footprint_clamped.photons, budget.footprint_clamped.watts / budget.landed.watts));
+    }
+    assert!(
+        clamped[0].1 < 0.01,
+        "the shipped photons' footprints clamped {:.2} % of their light",
+        100.0 * clamped[0].1
+    );
+    assert!(clamped[1].0 > 0, "a quarter of the pool per photon was not clamped");
+    assert_clean_shutdown(ctx);
+}

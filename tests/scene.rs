@@ -575,6 +575,14 @@ fn out_of_range_values_are_errors_naming_the_field_and_the_range() {
         ),
         ("[effects]\ncaustic_estimator = \"splats\"\n", "effects.caustic_estimator"),
         (
+            "[effects]\ncaustic_estimator = \"footprint\"\ncaustic_subdivision = 1\n",
+            "effects.caustic_subdivision = 1 is out of range for effects.caustic_estimator = \"footprint\": must be >= 2",
+        ),
+        (
+            "[effects]\ncaustic_estimator = \"footprint\"\ncaustic_refinement = true\n",
+            "effects.caustic_refinement = true refines the triangle estimator's mesh: it needs effects.caustic_estimator = \"triangles\" (here \"footprint\")",
+        ),
+        (
             "[effects]\ncaustic_estimator = \"paper\"\ncaustic_refinement = true\n",
             "effects.caustic_refinement = true refines the triangle estimator's mesh: it needs effects.caustic_estimator = \"triangles\" (here \"paper\")",
         ),

@@ -41,10 +41,82 @@ bool lit_side_faces_camera(vec3 hit, vec3 n, vec3 light_dir) {
     return dot(n, -light_dir) * dot(n, frame.camera_position - hit) > 0.0;
 }
 
+// Whether a photon that landed at `p` with unit receiver normal `n` lies on the receiver of
+// one that landed at `at` with unit normal `n_at`: normals within 45°, and off that one's
+// tangent plane by under a quarter of its distance from it. (Within 25°, the facets of the
+// tank's rocks, 20–40° apart, refused their triangles, and their photons drew squares; a wall
+// and the floor, 90°, stay two receivers.) The triangles' mesh cells and the footprint
+// points' neighbours both ask it.
+bool on_one_receiver(vec3 at, vec3 n_at, vec3 p, vec3 n) {
+    if (dot(n_at, n) < 0.7) return false;
+    vec3 d = p - at;
+    return abs(dot(d, n_at)) <= 0.25 * length(d);
+}
+
+// The edge of a landed photon's cell along grid axis `axis` (0: u, 1: v) from its own
+// refracted ray (entering the water at `surface` along `direction`, its hit on the plane of
+// unit normal n, cast at `window_uv` of a grid of `photons_per_axis` whose warp scales its
+// cell by `cell_scale`): the neighbour's ray cast from the light one grid step away (the step
+// isotropic under the view's warp: its area is the warped cell's), entering the water's
+// plane at the photon's entry and refracted by its water normal, where it meets its
+// receiver's plane. A directional light's neighbour ray is the photon's own taken parallel,
+// so its edge needs no refraction; a point light's rays spread, and its neighbour is
+// refracted by the normal that refracted the photon's (the slit of
+// tests/method.rs::point_light_through_a_slit…, whose strip read 1.57 of the exact law in
+// squares without it). False where it never refracted, or a ray runs along the plane. The
+// triangles' cut cells (caustics_triangles.geom) and the footprint points (caustics.geom)
+// both take it where no neighbour's ray gives the edge.
+bool light_step_edge(vec3 hit, vec3 n, vec3 surface, vec3 direction, vec2 window_uv, float cell_scale, int axis,
+                     vec2 photons_per_axis, out vec3 edge) {
+    edge = vec3(0.0);
+    if (!(dot(direction, direction) > 0.5)) return false;
+    if (frame.light_is_point == 0.0) {
+        // The light's window is orthographic: an NDC step of 2 spans it.
+        vec4 across = axis == 0 ? vec4(2.0, 0.0, 0.0, 0.0) : vec4(0.0, 2.0, 0.0, 0.0);
+        vec3 step = (frame.light_inv_view_proj * across).xyz * frame.photon_window_size[axis]
+                  / photons_per_axis[axis] * sqrt(cell_scale);
+        // Along the light to the water's level, then along the refracted ray to the plane.
+        vec3 at_water = step - frame.light_axis * (step.y / min(frame.light_axis.y, -1e-3));
+        float denom = dot(direction, n);
+        if (abs(denom) <= 1e-3) return false;
+        edge = at_water - direction * (dot(at_water, n) / denom);
+        return true;
+    }
+    vec2 ndc = (frame.photon_window_min + window_uv * frame.photon_window_size) * 2.0 - 1.0;
+    ndc[axis] += 2.0 * frame.photon_window_size[axis] / photons_per_axis[axis] * sqrt(cell_scale);
+    vec4 a = frame.light_inv_view_proj * vec4(ndc, 0.0, 1.0);
+    vec4 b = frame.light_inv_view_proj * vec4(ndc, 1.0, 1.0);
+    vec3 o = a.xyz / a.w;
+    vec3 d = normalize(b.xyz / b.w - o);
+    if (!(d.y < -1e-3)) return false;
+    // Snell's law in vectors: incident − ior · refracted lies along the water's normal.
+    vec3 incident = normalize(surface - frame.light_position);
+    vec3 water_normal = normalize(incident - frame.ior * direction);
+    vec3 entry = o + d * ((surface.y - o.y) / d.y);
+    vec3 refracted = refract(d, water_normal, 1.0 / frame.ior);
+    float along = dot(refracted, n);
+    if (dot(refracted, refracted) == 0.0 || abs(along) <= 1e-3) return false;
+    float t = dot(hit - entry, n) / along;
+    if (!(t > 0.0)) return false;
+    edge = entry + t * refracted - hit;
+    return true;
+}
+
 // A landed photon's receiver normal as a unit vector (Photon::receiver_normal: the one the
 // cast read at the texel whose plane placed the hit).
 vec3 unit_receiver_normal(Photon ph) {
     return normalize(ph.receiver_normal + 1e-6);
+}
+
+// The receiver area one pixel of the caustic target covers at `hit` (normal n, zero where
+// unknown: a floor's is taken), whose camera clip w is `clip_w`.
+float receiver_pixel_area(vec3 hit, vec3 n, float clip_w) {
+    vec3 to_hit = hit - frame.camera_position;
+    float d_view = length(to_hit);
+    if (n == vec3(0.0)) n = vec3(0.0, 1.0, 0.0); // outside the map: a floor's
+    float cos_view = abs(dot(n, to_hit / d_view));
+    float cos_axis = clip_w / d_view;
+    return pixel_world_area(d_view, cos_view, cos_axis, frame.caustic_target_size.y);
 }
 
 // A square splat of `size` whole pixels centred on receiver point `hit`, spreading the
@@ -63,14 +135,9 @@ bool caustic_square_on(vec3 hit, vec3 n, vec3 flux, float size, out CausticSplat
     // far-off points to the border instead of discarding them.)
     vec2 reach = s.clip.w * (1.0 + size / frame.caustic_target_size);
     if (any(greaterThan(abs(s.clip.xy), reach)) || s.clip.z < 0.0 || s.clip.z > s.clip.w) return false;
-    vec3 to_hit = hit - frame.camera_position;
-    float d_view = length(to_hit);
-    if (n == vec3(0.0)) n = vec3(0.0, 1.0, 0.0); // outside the map: a floor's
-    float cos_view = abs(dot(n, to_hit / d_view));
-    float cos_axis = s.clip.w / d_view;
     // The splat spreads the photon's flux over size² pixels, each covering pixel_world_area
     // of the receiver: the density estimate of irradiance.
-    float area = size * size * pixel_world_area(d_view, cos_view, cos_axis, frame.caustic_target_size.y);
+    float area = size * size * receiver_pixel_area(hit, n, s.clip.w);
     // Stored relative to the surface irradiance, so the buffer's values sit near 1 whatever
     // the light's strength (compose multiplies it back).
     s.irradiance = vec4(flux / (area * frame.surface_irradiance), 1.0);

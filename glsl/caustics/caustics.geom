@@ -1,10 +1,11 @@
 #version 450
 // Caustics (method step 5): each coarse cell becomes SUBDIVISION² photons; each photon that
-// reaches a receiver is emitted as a point at the hit, sized by distance to the viewer, and
-// carrying the irradiance estimate its splat contributes (see docs/units.md).
-// Compiled twice (shaders::VARIANTS): as caustics.geom, and as caustics_debug.geom with
-// PHOTON_DEBUG, which records every photon's cast in a storage buffer for comparison with the
-// CPU twin.
+// reaches a receiver is emitted as a point at the hit, carrying the irradiance estimate its
+// splat contributes (see docs/units.md). The paper's points are sized by the distance to the
+// viewer. Compiled four times (shaders::VARIANTS): as caustics.geom; as caustics_debug.geom
+// with PHOTON_DEBUG, which records every photon's cast in a storage buffer for comparison
+// with the CPU twin; and both again with FOOTPRINT_POINTS (caustics_footprint.geom,
+// caustics_footprint_debug.geom), the footprint-sized points below.
 #include "caustic_splat.glsl"
 
 #ifdef PHOTON_DEBUG
@@ -13,7 +14,8 @@
 // zero for an invocation with no cell. The flux budget records the triangle estimator's photons
 // through this variant too, so it numbers its photons over their grid, N/k × N·k coarse cells
 // (caustic_grid_cell; k is 1 for the paper's points), each photon at its index in that grid as
-// caustics_triangles.geom places it.
+// caustics_triangles.geom places it. A footprint point clamped to the device's largest point
+// records 3 instead of 1 (flux_budget::FOOTPRINT_CLAMPED).
 layout(set = 0, binding = BINDING_PHOTON_DEBUG, std430) writeonly buffer PhotonDebug {
     vec4 records[];
 } photon_debug;
@@ -26,7 +28,177 @@ layout(push_constant) uniform GridPush { uint grid; } pc;
 
 layout(location = 0) flat in uvec2 v_cell[];
 layout(location = 0) flat out vec3 g_irradiance; // irradiance / E_surface per covered pixel
+#ifdef FOOTPRINT_POINTS
+layout(location = 1) flat out vec4 g_square; // centre, width and height on the target, pixels (caustics.frag)
+#endif
 
+#ifdef FOOTPRINT_POINTS
+// Footprint-sized points (effects.caustic_estimator = "footprint"; issue 16's photon
+// differentials). The invocation casts its cell's photons together, so each knows where its
+// grid neighbours landed: its footprint is the area of its cell refracted onto its receiver,
+// the parallelogram of its cell's edges there (half the span between the neighbours on either
+// side along each grid axis, or the span to the one on its receiver). The footprint sets the
+// side of the point's square on the target, the square root of the pixels it covers, and so
+// its irradiance, its flux over that area: sparse photons cover the floor between them, dense
+// ones stay under a pixel where the waves focus them. The square is not rounded to whole
+// pixels (whole pixels left a lattice of seams and overlaps where footprints are 1–2 px): the
+// fragment shader (caustics.frag, FOOTPRINT_POINTS) spreads each point's flux exactly by a
+// tent of its size per axis, and neighbouring tents sum to a constant. A photon
+// with no neighbour on its receiver along an axis (a receiver's or a shadow's border, a lone
+// photon on a post) takes its own ray a grid step over for that edge, as the triangles' cut
+// cells do; one whose ray runs along its receiver, the paper's size, which is bounded. The
+// point drawn is a pixel wider than its rectangle, and bounded by the device's largest
+// point; the flux budget (`render --flux-budget`) counts the photons it clamped.
+const int MAX_PHOTONS = MAX_SUBDIVISION * MAX_SUBDIVISION;
+vec3 hit[MAX_PHOTONS];
+vec3 normal[MAX_PHOTONS]; // unit; zero where the light's normal map holds none
+vec3 flux[MAX_PHOTONS];   // transmitted and attenuated to the hit, W per channel
+bool seen[MAX_PHOTONS];   // landed on the side of its receiver the camera sees
+vec3 surface[MAX_PHOTONS];   // where its ray entered the water, and its refracted direction
+vec3 direction[MAX_PHOTONS]; // (light_step_edge)
+vec2 window_uv[MAX_PHOTONS];
+float cell_scale[MAX_PHOTONS];
+#ifdef PHOTON_DEBUG
+uint record[MAX_PHOTONS]; // its records' index
+#endif
+
+// Photon k's cell edges on its receiver along grid axis `axis` (0: u, 1: v), towards its
+// neighbours in the invocation (`side` a row) before and after it: the span to each that lies
+// on its receiver, the other's where only one does, and where neither does (a border, a post
+// a photon wide) its own ray a grid step over (light_step_edge). False with none of these.
+bool footprint_edges(int k, int axis, int side, vec2 photons_per_axis, out vec3 before, out vec3 after) {
+    int along = axis == 0 ? k % side : k / side, step = axis == 0 ? 1 : side;
+    bool a = along > 0 && seen[k - step] && on_one_receiver(hit[k], normal[k], hit[k - step], normal[k - step]);
+    bool b = along + 1 < side && seen[k + step] && on_one_receiver(hit[k], normal[k], hit[k + step], normal[k + step]);
+    before = a ? hit[k] - hit[k - step] : vec3(0.0);
+    after = b ? hit[k + step] - hit[k] : before;
+    if (!a) before = after;
+    if (a || b) return true;
+    bool own = light_step_edge(hit[k], normal[k], surface[k], direction[k], window_uv[k], cell_scale[k], axis,
+                               photons_per_axis, after);
+    before = after;
+    return own;
+}
+
+// A cell edge's span on the target, pixels, from the photon at clip position `clip`
+// (linearised there); false where its end lies behind the camera.
+bool target_span(vec3 at, vec4 clip, vec3 edge, out vec2 span) {
+    vec4 end = frame.camera_view_proj * vec4(at + edge, 1.0);
+    span = (end.xy / end.w - clip.xy / clip.w) * 0.5 * frame.caustic_target_size;
+    return end.w > frame.z_near;
+}
+
+void main() {
+    int side = int(SUBDIVISION);
+#ifdef PHOTON_DEBUG
+    uvec2 cell, cells;
+    bool has_cell = caustic_grid_cell(v_cell[0], pc.grid, cell, cells);
+    vec2 photons_per_axis = vec2(cells * SUBDIVISION);
+#else
+    float photons_per_axis = float(pc.grid * SUBDIVISION);
+#endif
+    for (int j = 0; j < side; ++j) {
+        for (int i = 0; i < side; ++i) {
+            int k = j * side + i;
+            Photon ph;
+            seen[k] = false;
+#ifdef PHOTON_DEBUG
+            uint index = ((v_cell[0].y * pc.grid + v_cell[0].x) * SUBDIVISION + uint(j)) * SUBDIVISION + uint(i);
+            record[k] = index;
+            if (!has_cell) {
+                photon_debug.records[2 * index] = vec4(0.0);
+                photon_debug.records[2 * index + 1] = vec4(0.0);
+                continue;
+            }
+            vec2 uv = caustic_grid_photon_uv(cell, uvec2(i, j), SUBDIVISION, photons_per_axis);
+            bool landed = cast_photon(uv, photons_per_axis, ph);
+            photon_debug.records[2 * index] = vec4(ph.hit, landed ? 1.0 : -float(photon_fate));
+            photon_debug.records[2 * index + 1] = vec4(ph.surface, ph.flux);
+#else
+            vec2 uv = photon_grid_uv(v_cell[0], uvec2(i, j), SUBDIVISION, uvec2(pc.grid));
+            bool landed = cast_photon(uv, photons_per_axis, ph);
+#endif
+            hit[k] = ph.hit;
+            flux[k] = ph.flux * water_transmittance(ph.travelled);
+            surface[k] = ph.surface;
+            direction[k] = ph.direction;
+            window_uv[k] = ph.window_uv;
+            cell_scale[k] = ph.cell_scale;
+            // The side test and the footprint's plane: the receiver's normal where the cast
+            // placed the hit (caustic_splat).
+            vec3 stored = ph.receiver_normal;
+            bool has_normal = dot(stored, stored) > 0.25;
+            normal[k] = has_normal ? unit_receiver_normal(ph) : vec3(0.0);
+            seen[k] = landed && (!has_normal || lit_side_faces_camera(ph.hit, stored, ph.direction));
+        }
+    }
+    float largest = floor(frame.device_max_point_size);
+    for (int k = 0; k < side * side; ++k) {
+        if (!seen[k]) continue;
+        vec4 clip = frame.camera_view_proj * vec4(hit[k], 1.0);
+        if (clip.w <= frame.z_near) continue; // behind the camera: caustic_square_on drops it
+        vec3 u[2], v[2]; // the cell's edges before and after the photon along each axis
+        // The paper's size where the photon has no footprint; its irradiance then comes from
+        // the receiver area the square's pixels cover (caustic_square_on).
+        float size = regulated_point_size(length(hit[k] - frame.camera_position), frame.z_near, frame.z_far,
+                                          frame.point_size_min, frame.point_size_max);
+        float footprint = 0.0;
+        vec2 sides = vec2(1.0); // the rectangle's width and height over its side (an area's square root)
+        vec2 du[2], dv[2];
+        if (normal[k] != vec3(0.0) && footprint_edges(k, 0, side, vec2(photons_per_axis), u[0], u[1])
+            && footprint_edges(k, 1, side, vec2(photons_per_axis), v[0], v[1])
+            && target_span(hit[k], clip, u[0], du[0]) && target_span(hit[k], clip, u[1], du[1])
+            && target_span(hit[k], clip, v[0], dv[0]) && target_span(hit[k], clip, v[1], dv[1])) {
+            // The footprint: the mean of the four quarters of the mesh cells around the
+            // photon, each |area| (a folded cell keeps its area, as a folded triangle does).
+            // One parallelogram of the edges' means cancelled where the waves fold the light
+            // between a photon's neighbours: a footprint of nothing put the photon's light on
+            // one pixel, 44× the reference's there (the tank at 320×200 with 130² × 3²).
+            // Its pixels: the same quarters projected onto the target, not its area over the
+            // area a pixel covers at the hit (pixel_world_area), which is clamped at grazing
+            // views, where the points read up to 20 % too bright.
+            float pixels = 0.0;
+            vec2 extent = vec2(0.0);
+            for (int a = 0; a < 2; ++a) {
+                for (int b = 0; b < 2; ++b) {
+                    footprint += 0.25 * length(cross(u[a], v[b]));
+                    pixels += 0.25 * abs(du[a].x * dv[b].y - du[a].y * dv[b].x);
+                }
+                extent += 0.5 * (abs(du[a]) + abs(dv[a]));
+            }
+            size = sqrt(pixels);
+            // A rectangle of the footprint's area with its extents' aspect on the target:
+            // a face the camera or the light grazes stretches its footprints one way, and
+            // squares of their area overlapped along it and left seams across it (bands of
+            // moiré on the tank's walls).
+            if (extent.x > 0.0 && extent.y > 0.0) sides = sqrt(extent / extent.yx);
+        }
+        // The point drawn is a pixel wider than twice the rectangle's larger side (its tents'
+        // reach), within the device's largest point: a larger rectangle shrinks, brighter,
+        // keeping its flux. A
+        // footprint of no area (a fold's photon) keeps a thousandth of a pixel: its light
+        // on the pixel it is in.
+        vec2 rectangle = size * sides;
+        float across = max(rectangle.x, rectangle.y);
+        float shrink = across > 0.5 * (largest - 1.0) ? 0.5 * (largest - 1.0) / across : 1.0;
+        rectangle = max(rectangle * shrink, vec2(1e-3));
+        bool clamped = footprint > 0.0 && shrink < 1.0;
+#ifdef PHOTON_DEBUG
+        if (clamped) photon_debug.records[2 * record[k]].w = 3.0;
+#endif
+        CausticSplat splat;
+        if (!caustic_square_on(hit[k], normal[k], flux[k], max(rectangle.x, rectangle.y), splat)) continue;
+        // The footprint's irradiance: the photon's flux over its area, which its rectangle
+        // deposits over the pixels it covers (fewer, where it shrank).
+        if (footprint > 0.0) splat.irradiance.rgb = flux[k] / (footprint * shrink * shrink * frame.surface_irradiance);
+        gl_Position = splat.clip;
+        gl_PointSize = 2.0 * max(rectangle.x, rectangle.y) + 1.0;
+        g_irradiance = splat.irradiance.rgb;
+        g_square = vec4((splat.clip.xy / splat.clip.w * 0.5 + 0.5) * frame.caustic_target_size, rectangle);
+        EmitVertex();
+    }
+}
+#else
 void main() {
 #ifdef PHOTON_DEBUG
     uvec2 cell, cells;
@@ -62,3 +234,4 @@ void main() {
         }
     }
 }
+#endif

@@ -164,14 +164,10 @@ void emit_square(CausticSplat s, float footprint) {
     EndPrimitive();
 }
 
-// Whether a photon that landed at `p` with receiver normal `n` lies on photon k's receiver:
-// normals within 45°, and off k's tangent plane by under a quarter of its distance from k.
-// (Within 25°, the facets of the tank's rocks, 20–40° apart, refused their triangles, and
-// their photons drew squares; a wall and the floor, 90°, stay two receivers.)
+// Whether a photon that landed at `p` with receiver normal `n` lies on photon k's receiver
+// (on_one_receiver, caustic_splat.glsl).
 bool on_receiver_of(int k, vec3 p, vec3 n) {
-    if (dot(normal[k], n) < 0.7) return false;
-    vec3 d = p - hit[k];
-    return abs(dot(d, normal[k])) <= 0.25 * length(d);
+    return on_one_receiver(hit[k], normal[k], p, n);
 }
 
 // Whether photons a, b, c landed on one smooth receiver (a's: on_receiver_of), on the side
@@ -309,47 +305,10 @@ bool ray_on_receiver_plane(int m, int k, out vec3 q) {
     return true;
 }
 
-// The edge of photon k's cell along grid axis `axis` (0: u, 1: v) from its own refracted ray:
-// the neighbour's ray cast from the light one grid step away (the step isotropic under the
-// view's warp: its area is the warped cell's), entering the water's plane at k's entry and
-// refracted by k's water normal, where it meets k's receiver's plane. A directional light's
-// neighbour ray is k's own taken parallel, so its edge needs no refraction; a point light's
-// rays spread, and its neighbour is refracted by the normal that refracted k's (the slit of
-// tests/method.rs::point_light_through_a_slit…, whose strip read 1.57 of the exact law in
-// squares without it). False where k never refracted, or a ray runs along the plane.
+// Photon k's cell edge from its own refracted ray (light_step_edge, caustic_splat.glsl).
 bool parallel_footprint_edge(int k, int axis, vec2 photons_per_axis, out vec3 edge) {
-    edge = vec3(0.0);
-    if (!(dot(direction[k], direction[k]) > 0.5)) return false;
-    if (frame.light_is_point == 0.0) {
-        // The light's window is orthographic: an NDC step of 2 spans it.
-        vec4 across = axis == 0 ? vec4(2.0, 0.0, 0.0, 0.0) : vec4(0.0, 2.0, 0.0, 0.0);
-        vec3 step = (frame.light_inv_view_proj * across).xyz * frame.photon_window_size[axis]
-                  / photons_per_axis[axis] * sqrt(cell_scale[k]);
-        // Along the light to the water's level, then along the refracted ray to the plane.
-        vec3 at_water = step - frame.light_axis * (step.y / min(frame.light_axis.y, -1e-3));
-        float denom = dot(direction[k], normal[k]);
-        if (abs(denom) <= 1e-3) return false;
-        edge = at_water - direction[k] * (dot(at_water, normal[k]) / denom);
-        return true;
-    }
-    vec2 ndc = (frame.photon_window_min + window_uv[k] * frame.photon_window_size) * 2.0 - 1.0;
-    ndc[axis] += 2.0 * frame.photon_window_size[axis] / photons_per_axis[axis] * sqrt(cell_scale[k]);
-    vec4 a = frame.light_inv_view_proj * vec4(ndc, 0.0, 1.0);
-    vec4 b = frame.light_inv_view_proj * vec4(ndc, 1.0, 1.0);
-    vec3 o = a.xyz / a.w;
-    vec3 d = normalize(b.xyz / b.w - o);
-    if (!(d.y < -1e-3)) return false;
-    // Snell's law in vectors: incident − ior · refracted lies along the water's normal.
-    vec3 incident = normalize(surface[k] - frame.light_position);
-    vec3 water_normal = normalize(incident - frame.ior * direction[k]);
-    vec3 entry = o + d * ((surface[k].y - o.y) / d.y);
-    vec3 refracted = refract(d, water_normal, 1.0 / frame.ior);
-    float along = dot(refracted, normal[k]);
-    if (dot(refracted, refracted) == 0.0 || abs(along) <= 1e-3) return false;
-    float t = dot(hit[k] - entry, normal[k]) / along;
-    if (!(t > 0.0)) return false;
-    edge = entry + t * refracted - hit[k];
-    return true;
+    return light_step_edge(hit[k], normal[k], surface[k], direction[k], window_uv[k], cell_scale[k], axis,
+                           photons_per_axis, edge);
 }
 
 // One edge of photon k's cell on its receiver's plane, along grid axis `axis` (0: u, 1: v)

@@ -143,9 +143,10 @@ impl SweepAxes {
                                         if refine && estimator != CausticEstimator::Triangles {
                                             continue;
                                         }
-                                        // The triangle estimator's subdivision bound (its
-                                        // geometry shader's output limit) skips larger ones.
-                                        if sub > estimator.max_subdivision() {
+                                        // The estimator's subdivision bounds (the triangles'
+                                        // geometry shader's output limit, the footprint
+                                        // points' neighbours) skip the others.
+                                        if sub > estimator.max_subdivision() || sub < estimator.min_subdivision() {
                                             continue;
                                         }
                                         // The marched godrays need a directional light: a point

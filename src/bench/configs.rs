@@ -101,6 +101,13 @@ pub fn configs() -> Vec<BenchConfig> {
         // Not in the paper: the triangle estimator as the built-in scenes ship it, at about
         // paper-800's cost (docs/accuracy.md), with paper-800's godrays.
         triangles.clone(),
+        // Not in the paper: the footprint-sized points (photon differentials) on
+        // triangles-800's photons and godrays (docs/accuracy.md).
+        BenchConfig {
+            name: "footprint-points-800",
+            caustic_estimator: CausticEstimator::Footprint,
+            ..triangles.clone()
+        },
         // Not in the paper: triangles-800 refined at receivers' borders, a second, indirect
         // draw of the cells on two receivers (docs/accuracy.md; off as the scenes ship).
         BenchConfig { name: "refined-800", caustic_refinement: true, ..triangles.clone() },

@@ -109,8 +109,12 @@ pub fn compare_paths(
             eprintln!("  {}: skipped, {} lacks shaderBufferFloat32AtomicAdd", path.name(), device.info.name);
             continue;
         }
-        if path != PhotonPath::GeometryShader && config.caustic_estimator == CausticEstimator::Triangles {
-            eprintln!("  {}: skipped, the triangle estimator is the geometry shader's alone", path.name());
+        if path != PhotonPath::GeometryShader && config.caustic_estimator.geometry_shader_only() {
+            eprintln!(
+                "  {}: skipped, the {} estimator is the geometry shader's alone",
+                path.name(),
+                config.caustic_estimator.name()
+            );
             continue;
         }
         if path != PhotonPath::GeometryShader && config.godray_method == crate::scene::GodrayMethod::Footprint {
@@ -245,7 +249,9 @@ pub fn scaling(
     // triangle estimator's geometry shader takes at most 3 (caustics_triangles.geom).
     let subdivisions = match base.caustic_estimator {
         CausticEstimator::Triangles => vec![1.0, 2.0, 3.0],
-        _ => vec![1.0, 2.0, 4.0, 8.0],
+        // The footprint points need a neighbour in their cell.
+        CausticEstimator::Footprint => vec![2.0, 4.0, 8.0],
+        CausticEstimator::Paper => vec![1.0, 2.0, 4.0, 8.0],
     };
     // (name, pass, values, how each value changes the configuration, the work it measures)
     let sweeps: [(&str, &str, Vec<f64>, Vary, Measure); 6] = [

@@ -13,8 +13,10 @@ pub(super) struct BenchArgs {
     scene: String,
     /// Configurations to run, comma-separated: paper-800, paper-1440, paper-1m-photons,
     /// paper-1440-high, triangles-800 (the triangle caustic estimator as the scenes ship it),
-    /// marched-800 (triangles-800 with ray-marched godrays), above-800 (paper-800 seen from
-    /// above the water), tiny; or "paper" for the paper's four.
+    /// footprint-points-800 (triangles-800's photons as footprint-sized points), refined-800,
+    /// marched-800 and footprint-800 (triangles-800 refined, with ray-marched godrays, with
+    /// footprint-sized beams), above-800 (paper-800 seen from above the water), tiny; or
+    /// "paper" for the paper's four.
     #[arg(long, default_value = "paper")]
     config: String,
     /// Measured frames per configuration.

@@ -55,7 +55,8 @@ pub(super) struct SceneArgs {
     #[arg(long, value_name = "X,Y,Z", value_delimiter = ',', allow_hyphen_values = true)]
     look_at: Option<Vec<f32>>,
     /// Turn photons into irradiance with this estimator instead of the scene's: paper
-    /// (distance-sized points) or triangles (warped-cell triangles).
+    /// (distance-sized points), footprint (footprint-sized points) or triangles (warped-cell
+    /// triangles).
     #[arg(long, value_name = "NAME", value_parser = caustic_estimator)]
     caustic_estimator: Option<underlight::scene::CausticEstimator>,
     /// Spread the caustic photons this way instead of the scene's: even (the paper's grid) or
@@ -240,6 +241,12 @@ fn print_flux_budget(ctx: &Context, scene: &underlight::scene::Scene, extent: vk
         budget.seen_by(records, view_proj, camera, &bvh);
         budget.placed_by(records, &bvh);
         println!("{budget}");
+        if e.caustic_estimator == underlight::scene::CausticEstimator::Footprint {
+            println!(
+                "footprint points clamped to the device's largest point ({} px): {} of {} landed",
+                u.device_max_point_size, budget.footprint_clamped.photons, budget.landed.photons
+            );
+        }
         printed = true;
     }
     if let Some(records) = &images.beam_records {

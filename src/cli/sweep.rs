@@ -41,7 +41,7 @@ pub(super) struct SweepArgs {
     /// Filter on, off, or both.
     #[arg(long, value_delimiter = ',', value_enum, default_values_t = [OnOff::Off, OnOff::On])]
     filter: Vec<OnOff>,
-    /// Caustic estimators: paper, triangles (comma-separated).
+    /// Caustic estimators: paper, footprint, triangles (comma-separated).
     #[arg(long, value_delimiter = ',', value_parser = caustic_estimator)]
     estimator: Vec<underlight::scene::CausticEstimator>,
     /// Caustic photon densities: even, view (comma-separated).

@@ -120,18 +120,22 @@ impl CausticsPass {
         let (grid, subdivision, estimator) =
             (effects.caustic_grid, effects.caustic_subdivision, effects.caustic_estimator);
         let triangles = estimator == CausticEstimator::Triangles;
-        if triangles && path != PhotonPath::GeometryShader {
+        if estimator.geometry_shader_only() && path != PhotonPath::GeometryShader {
             return Err(Error::InvalidParameter {
                 name: "caustic_estimator",
-                message: format!("\"triangles\" needs the geometry-shader photon path (asked: {})", path.name()),
+                message: format!(
+                    "\"{}\" needs the geometry-shader photon path (asked: {})",
+                    estimator.name(),
+                    path.name()
+                ),
             });
         }
-        let max = estimator.max_subdivision();
-        if subdivision == 0 || subdivision > max {
+        let (min, max) = (estimator.min_subdivision(), estimator.max_subdivision());
+        if subdivision < min || subdivision > max {
             return Err(Error::InvalidParameter {
                 name: "caustic_subdivision",
                 message: format!(
-                    "{subdivision} is outside 1..={max} for the {} estimator (its geometry shader's output limit)",
+                    "{subdivision} is outside {min}..={max} for the {} estimator (its geometry shader's output limit, and the neighbours its footprints need)",
                     estimator.name()
                 ),
             });
@@ -225,8 +229,18 @@ impl CausticsPass {
                 (triangle_pipeline("caustics triangles", geometry, &specialization)?, None, None)
             }
             PhotonPath::GeometryShader => {
-                let geometry = if record_photons { "caustics_debug.geom" } else { "caustics.geom" };
-                (shaders::graphics_pipeline(device, &points("photon_grid.vert", Some(geometry)))?, None, None)
+                // Recording, the footprint points record which of them were clamped.
+                let geometry = match (estimator == CausticEstimator::Footprint, record_photons) {
+                    (true, true) => "caustics_footprint_debug.geom",
+                    (true, false) => "caustics_footprint.geom",
+                    (false, true) => "caustics_debug.geom",
+                    (false, false) => "caustics.geom",
+                };
+                // The footprint points' squares cover fractions of pixels (caustics.frag).
+                let fragment =
+                    if estimator == CausticEstimator::Footprint { "caustics_footprint.frag" } else { "caustics.frag" };
+                let desc = GraphicsPipelineDesc { fragment, ..points("photon_grid.vert", Some(geometry)) };
+                (shaders::graphics_pipeline(device, &desc)?, None, None)
             }
             PhotonPath::VertexOnly => {
                 (shaders::graphics_pipeline(device, &points("caustics_vertex.vert", None))?, None, None)

@@ -182,6 +182,7 @@ pub(super) struct MediumFile {
 #[serde(rename_all = "kebab-case")]
 pub(super) enum CausticEstimatorFile {
     Paper,
+    Footprint,
     Triangles,
 }
 
@@ -909,6 +910,7 @@ impl EffectsFile {
             caustic_estimator: match self.caustic_estimator {
                 None => d.caustic_estimator,
                 Some(CausticEstimatorFile::Paper) => CausticEstimator::Paper,
+                Some(CausticEstimatorFile::Footprint) => CausticEstimator::Footprint,
                 Some(CausticEstimatorFile::Triangles) => CausticEstimator::Triangles,
             },
             caustic_photon_density: self.caustic_photon_density.map_or(d.caustic_photon_density, PhotonSpread::from),
@@ -972,6 +974,17 @@ impl EffectsFile {
                     ),
                 ));
             }
+        }
+        let least = effects.caustic_estimator.min_subdivision();
+        if effects.caustic_subdivision < least {
+            return Err(ctx.error(
+                "effects.caustic_subdivision",
+                format_args!(
+                    "= {} is out of range for effects.caustic_estimator = \"{}\": must be >= {least} (each photon's footprint is measured to its neighbours in its coarse cell)",
+                    effects.caustic_subdivision,
+                    effects.caustic_estimator.name()
+                ),
+            ));
         }
         if effects.caustic_refinement && effects.caustic_estimator != CausticEstimator::Triangles {
             return Err(ctx.error(
@@ -1074,6 +1087,7 @@ impl Scene {
             filter: Some(e.filter),
             caustic_estimator: Some(match e.caustic_estimator {
                 CausticEstimator::Paper => CausticEstimatorFile::Paper,
+                CausticEstimator::Footprint => CausticEstimatorFile::Footprint,
                 CausticEstimator::Triangles => CausticEstimatorFile::Triangles,
             }),
             caustic_grid: Some(e.caustic_grid),

@@ -119,6 +119,12 @@ pub enum CausticEstimator {
     /// The paper's: each photon a square point sized by its distance to the camera
     /// (`point_size_min`..`point_size_max`), its flux spread over the pixels it covers.
     Paper,
+    /// Footprint-sized points: each photon a square point as large as its cell refracted onto
+    /// its receiver (from its grid neighbours' hits: photon differentials), its flux over that
+    /// area; the paper's size where no neighbour landed on its receiver
+    /// (glsl/caustics/caustics.geom, FOOTPRINT_POINTS). The geometry-shader path only, with
+    /// `caustic_subdivision` ≥ 2 (a photon's neighbours are its invocation's).
+    Footprint,
     /// Warped-cell triangles: the photons are the vertices of a mesh whose cells, refracted
     /// onto the receivers, carry their flux over their area (glsl/caustics_triangles.geom).
     /// The geometry-shader path only, with `caustic_subdivision` ≤ 3.
@@ -126,12 +132,14 @@ pub enum CausticEstimator {
 }
 
 impl CausticEstimator {
-    pub const ALL: [CausticEstimator; 2] = [CausticEstimator::Paper, CausticEstimator::Triangles];
+    pub const ALL: [CausticEstimator; 3] =
+        [CausticEstimator::Paper, CausticEstimator::Footprint, CausticEstimator::Triangles];
 
     /// The name scene files and command lines use.
     pub fn name(self) -> &'static str {
         match self {
             CausticEstimator::Paper => "paper",
+            CausticEstimator::Footprint => "footprint",
             CausticEstimator::Triangles => "triangles",
         }
     }
@@ -144,9 +152,24 @@ impl CausticEstimator {
     pub fn max_subdivision(self) -> u32 {
         use crate::shader_abi::limits as l;
         match self {
-            CausticEstimator::Paper => l::MAX_SUBDIVISION,
+            CausticEstimator::Paper | CausticEstimator::Footprint => l::MAX_SUBDIVISION,
             CausticEstimator::Triangles => l::TRIANGLE_MAX_SUBDIVISION,
         }
+    }
+
+    /// The smallest `caustic_subdivision` it takes: the footprint points find their
+    /// neighbours among their invocation's photons, so one photon per cell would have none.
+    pub fn min_subdivision(self) -> u32 {
+        match self {
+            CausticEstimator::Footprint => 2,
+            CausticEstimator::Paper | CausticEstimator::Triangles => 1,
+        }
+    }
+
+    /// Whether only the geometry-shader photon path draws it (its photons need their
+    /// neighbours'; `PhotonPath`).
+    pub fn geometry_shader_only(self) -> bool {
+        self != CausticEstimator::Paper
     }
 }
 

@@ -125,17 +125,24 @@ impl Live {
         self.gpu.rebuild_current(&self.view.scene)
     }
 
-    /// The next caustic estimator (paper's points, triangles). A subdivision finer than the
-    /// estimator's geometry shader takes (`CausticEstimator::max_subdivision`) is lowered to it.
+    /// The next caustic estimator (paper's points, footprint points, triangles). A subdivision
+    /// finer than the estimator's geometry shader takes (`CausticEstimator::max_subdivision`)
+    /// is lowered to it, and one coarser than it needs (`min_subdivision`) raised.
     pub(super) fn next_estimator(&mut self) -> Result<()> {
         use crate::scene::CausticEstimator;
         let e = &mut self.view.scene.effects;
         e.caustic_estimator = match e.caustic_estimator {
-            CausticEstimator::Paper => CausticEstimator::Triangles,
+            CausticEstimator::Paper => CausticEstimator::Footprint,
+            CausticEstimator::Footprint => CausticEstimator::Triangles,
             CausticEstimator::Triangles => CausticEstimator::Paper,
         };
         let what = format!("the {} estimator", e.caustic_estimator.name());
         lower_subdivision("caustic", &mut e.caustic_subdivision, e.caustic_estimator.max_subdivision(), &what);
+        let least = e.caustic_estimator.min_subdivision();
+        if e.caustic_subdivision < least {
+            println!("caustic subdivision {} raised to {least} for {what}", e.caustic_subdivision);
+            e.caustic_subdivision = least;
+        }
         println!("caustic estimator: {}", e.caustic_estimator.name());
         self.gpu.rebuild_current(&self.view.scene)
     }

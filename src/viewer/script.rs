@@ -21,7 +21,7 @@ pub enum Step {
     Restore,
     /// Switch an effect on or off (rebuilds the frame: passes and targets follow the scene).
     Toggle(Effect),
-    /// Switch to the next caustic estimator (the paper's points, triangles).
+    /// Switch to the next caustic estimator (the paper's points, footprint points, triangles).
     NextEstimator,
     /// Switch to the next godray method (lines, footprint ribbons, ray march).
     NextGodrayMethod,
