@@ -207,17 +207,7 @@ fn triangle_estimator_at_the_extremes() {
             s.effects.caustic_subdivision.min(underlight::shader_math::TRIANGLE_MAX_SUBDIVISION);
         s
     };
-    for elevation in [90.0f32, 30.0, 10.0, 1.0] {
-        let mut s = overview(0.0);
-        s.light.direction = if elevation == 90.0 { Vec3::NEG_Y } else { sun(elevation, 30.0) };
-        let points = overview_flux(&ctx, &s, 0.0, &format!("points, sun at {elevation}°"));
-        let tri = overview_flux(&ctx, &triangles(s), 0.0, &format!("triangles, sun at {elevation}°"));
-        assert!(tri > 0.0, "triangles: nothing on the floor at {elevation}°");
-        assert!(
-            (tri / points - 1.0).abs() < 0.05,
-            "flat water, sun at {elevation}°: points {points} W, triangles {tri} W"
-        );
-    }
+    carries_the_points_light_under_every_sun(&ctx, "triangles", triangles);
     let mut violent = overview(0.3);
     violent.water.wavelength = 0.5;
     overview_flux(&ctx, &triangles(violent.clone()), 0.7, "triangles, violent waves");
@@ -253,6 +243,22 @@ fn triangle_estimator_at_the_extremes() {
     assert_clean_shutdown(ctx);
 }
 
+/// Flat water under suns from the zenith to 1°: the estimator that `estimator` sets on a scene
+/// puts the paper's points' light on the floor in view, within 5 %.
+fn carries_the_points_light_under_every_sun(ctx: &Context, name: &str, estimator: impl Fn(Scene) -> Scene) {
+    for elevation in [90.0f32, 30.0, 10.0, 1.0] {
+        let mut s = overview(0.0);
+        s.light.direction = if elevation == 90.0 { Vec3::NEG_Y } else { sun(elevation, 30.0) };
+        let points = overview_flux(ctx, &s, 0.0, &format!("points, sun at {elevation}°"));
+        let other = overview_flux(ctx, &estimator(s), 0.0, &format!("{name}, sun at {elevation}°"));
+        assert!(other > 0.0, "{name}: nothing on the floor at {elevation}°");
+        assert!(
+            (other / points - 1.0).abs() < 0.05,
+            "flat water, sun at {elevation}°: points {points} W, {name} {other} W"
+        );
+    }
+}
+
 #[test]
 fn footprint_points_at_the_extremes() {
     // The footprint-sized points carry the paper's points' light from the zenith to a sun at
@@ -266,17 +272,7 @@ fn footprint_points_at_the_extremes() {
         s.effects.caustic_estimator = CausticEstimator::Footprint;
         s
     };
-    for elevation in [90.0f32, 30.0, 10.0, 1.0] {
-        let mut s = overview(0.0);
-        s.light.direction = if elevation == 90.0 { Vec3::NEG_Y } else { sun(elevation, 30.0) };
-        let points = overview_flux(&ctx, &s, 0.0, &format!("points, sun at {elevation}°"));
-        let fp = overview_flux(&ctx, &footprint(s), 0.0, &format!("footprint points, sun at {elevation}°"));
-        assert!(fp > 0.0, "footprint points: nothing on the floor at {elevation}°");
-        assert!(
-            (fp / points - 1.0).abs() < 0.05,
-            "flat water, sun at {elevation}°: points {points} W, footprints {fp} W"
-        );
-    }
+    carries_the_points_light_under_every_sun(&ctx, "footprint points", footprint);
     let mut violent = overview(0.3);
     violent.water.wavelength = 0.5;
     overview_flux(&ctx, &footprint(violent), 0.7, "footprint points, violent waves");
