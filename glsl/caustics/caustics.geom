@@ -34,21 +34,19 @@ layout(location = 1) flat out vec4 g_square; // centre, width and height on the 
 
 #ifdef FOOTPRINT_POINTS
 // Footprint-sized points (effects.caustic_estimator = "footprint"; issue 16's photon
-// differentials). The invocation casts its cell's photons together, so each knows where its
-// grid neighbours landed: its footprint is the area of its cell refracted onto its receiver,
-// the parallelogram of its cell's edges there (half the span between the neighbours on either
-// side along each grid axis, or the span to the one on its receiver). The footprint sets the
-// side of the point's square on the target, the square root of the pixels it covers, and so
-// its irradiance, its flux over that area: sparse photons cover the floor between them, dense
-// ones stay under a pixel where the waves focus them. The square is not rounded to whole
-// pixels (whole pixels left a lattice of seams and overlaps where footprints are 1–2 px): the
-// fragment shader (caustics.frag, FOOTPRINT_POINTS) spreads each point's flux exactly by a
-// tent of its size per axis, and neighbouring tents sum to a constant. A photon
-// with no neighbour on its receiver along an axis (a receiver's or a shadow's border, a lone
-// photon on a post) takes its own ray a grid step over for that edge, as the triangles' cut
-// cells do; one whose ray runs along its receiver, the paper's size, which is bounded. The
-// point drawn is a pixel wider than its rectangle, and bounded by the device's largest
-// point; the flux budget (`render --flux-budget`) counts the photons it clamped.
+// differentials; docs/accuracy.md, "Footprint-sized points"). The invocation casts its cell's
+// photons together, so each knows where its grid neighbours landed. Its footprint is its cell
+// of the photon window refracted onto its receiver: the mean of the four quarters of the mesh
+// cells around it, from the spans to its neighbours on its receiver (footprint_edges). The
+// photon's irradiance is its flux over the footprint, so sparse photons cover the floor
+// between them and dense ones stay under a pixel where the waves focus them. Its point is a
+// rectangle on the target of the footprint's pixels and aspect, not rounded to whole pixels
+// (whole pixels left a lattice of seams and overlaps where footprints are 1–2 px): the
+// fragment shader (caustics.frag, FOOTPRINT_POINTS) spreads its flux exactly by a tent of the
+// rectangle's size per axis, and neighbouring tents sum to a constant. The point drawn is a
+// pixel wider than twice the rectangle's larger side, within the device's largest point; the
+// flux budget (`render --flux-budget`) counts the photons that bound clamped. A photon whose
+// ray runs along its receiver takes the paper's size, which is bounded.
 const int MAX_PHOTONS = MAX_SUBDIVISION * MAX_SUBDIVISION;
 vec3 hit[MAX_PHOTONS];
 vec3 normal[MAX_PHOTONS]; // unit; zero where the light's normal map holds none
