@@ -236,7 +236,7 @@ impl CausticsPass {
                     (false, true) => "caustics_debug.geom",
                     (false, false) => "caustics.geom",
                 };
-                // The footprint points' squares cover fractions of pixels (caustics.frag).
+                // The footprint points spread each rectangle by its tents (caustics.frag).
                 let fragment =
                     if estimator == CausticEstimator::Footprint { "caustics_footprint.frag" } else { "caustics.frag" };
                 let desc = GraphicsPipelineDesc { fragment, ..points("photon_grid.vert", Some(geometry)) };
