@@ -132,7 +132,8 @@ pub const PLACED_NEAR: f64 = 0.05;
 
 /// A landed footprint point's record code where its footprint was larger than the device's
 /// largest point, which drew it (glsl/caustics/caustics.geom, FOOTPRINT_POINTS with
-/// PHOTON_DEBUG); a landed photon's is otherwise 1.
+/// PHOTON_DEBUG); a landed photon's is otherwise 1. GLSL: PHOTON_RECORD_FOOTPRINT_CLAMPED
+/// (photon_cast.glsl; `shader_math`'s mirrored-constants test holds them equal).
 pub const FOOTPRINT_CLAMPED: f32 = 3.0;
 
 #[derive(Clone, Debug, Default, PartialEq)]

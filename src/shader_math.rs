@@ -916,13 +916,14 @@ mod tests {
                 None => number(value),
             }
         };
-        let twins: [(&str, f64); 6] = [
+        let twins: [(&str, f64); 7] = [
             ("WATER_MAX_MARCH_STEPS", WATER_MAX_MARCH_STEPS as f64),
             ("WATER_REFINE_STEPS", WATER_REFINE_STEPS as f64),
             ("WATER_REFINE_RESIDUAL", WATER_REFINE_RESIDUAL as f64),
             ("WATER_NOISE_FEATURE", WATER_NOISE_FEATURE as f64),
             ("ITERATION_RESIDUAL", ITERATION_RESIDUAL as f64),
             ("CAUSTIC_DEPTH_TOLERANCE", CAUSTIC_DEPTH_TOLERANCE as f64),
+            ("PHOTON_RECORD_FOOTPRINT_CLAMPED", crate::flux_budget::FOOTPRINT_CLAMPED as f64),
         ];
         for (name, rust) in twins {
             let g = glsl(name);

@@ -828,9 +828,10 @@ fn footprint_points_light_flat_water_exactly() {
     // Under flat water every photon's footprint is its cell of the photon window carried
     // down the refracted light, and neighbouring footprints tile the floor: each pixel holds
     // the analytic irradiance, on the even grid and on one warped to the view (whose cells
-    // differ in size across the floor). A footprint measured wrongly (a neighbour's hit off
-    // by a grid step, the warp's cell scale left out) or spread by whole pixels (a lattice of
-    // seams and overlaps) fails the per-pixel bound.
+    // differ in size across the floor). Measured on lavapipe: per-pixel std 0.0007 % on the
+    // even grid, 0.5 % on the view's. Spread by boxes of their rectangles instead of tents
+    // (each pixel taking the share of it the rectangle covers), whose slanted lattice leaves
+    // seams and overlaps, the view's grid read a std of 4.5 % (peak 1.18) and failed.
     for density in [underlight::scene::PhotonSpread::Even, underlight::scene::PhotonSpread::View] {
         let mut scene = pool_with(0.0, CausticEstimator::Footprint, 320);
         scene.effects.caustic_photon_density = density;

@@ -15,7 +15,7 @@
 // through this variant too, so it numbers its photons over their grid, N/k × N·k coarse cells
 // (caustic_grid_cell; k is 1 for the paper's points), each photon at its index in that grid as
 // caustics_triangles.geom places it. A footprint point clamped to the device's largest point
-// records 3 instead of 1 (flux_budget::FOOTPRINT_CLAMPED).
+// records PHOTON_RECORD_FOOTPRINT_CLAMPED instead of 1 (photon_cast.glsl).
 layout(set = 0, binding = BINDING_PHOTON_DEBUG, std430) writeonly buffer PhotonDebug {
     vec4 records[];
 } photon_debug;
@@ -173,16 +173,15 @@ void main() {
         }
         // The point drawn is a pixel wider than twice the rectangle's larger side (its tents'
         // reach), within the device's largest point: a larger rectangle shrinks, brighter,
-        // keeping its flux. A
-        // footprint of no area (a fold's photon) keeps a thousandth of a pixel: its light
-        // on the pixel it is in.
+        // keeping its flux. A footprint of no area (a fold's photon) keeps a thousandth of a
+        // pixel: its light on the pixel it is in.
         vec2 rectangle = size * sides;
         float across = max(rectangle.x, rectangle.y);
         float shrink = across > 0.5 * (largest - 1.0) ? 0.5 * (largest - 1.0) / across : 1.0;
         rectangle = max(rectangle * shrink, vec2(1e-3));
         bool clamped = footprint > 0.0 && shrink < 1.0;
 #ifdef PHOTON_DEBUG
-        if (clamped) photon_debug.records[2 * record[k]].w = 3.0;
+        if (clamped) photon_debug.records[2 * record[k]].w = PHOTON_RECORD_FOOTPRINT_CLAMPED;
 #endif
         CausticSplat splat;
         if (!caustic_square_on(hit[k], normal[k], flux[k], max(rectangle.x, rectangle.y), splat)) continue;

@@ -39,7 +39,7 @@
 //     span of its grid neighbours' refracted rays on that plane, which needs their rays, not
 //     their hits; where no neighbour's ray meets the plane, a deck's or a rail's shadow, a
 //     ray cast from the light a grid step over and refracted as the photon's own was,
-//     parallel_footprint_edge). The polygon carries the light through its own part of the
+//     light_step_edge). The polygon carries the light through its own part of the
 //     photon window, so a border is drawn as the straight line between its crossings and
 //     carries the light up to it.
 //     (Before, a refused triangle handed a third of its flux to each landed corner, and each
@@ -305,25 +305,21 @@ bool ray_on_receiver_plane(int m, int k, out vec3 q) {
     return true;
 }
 
-// Photon k's cell edge from its own refracted ray (light_step_edge, caustic_splat.glsl).
-bool parallel_footprint_edge(int k, int axis, vec2 photons_per_axis, out vec3 edge) {
-    return light_step_edge(hit[k], normal[k], surface[k], direction[k], window_uv[k], cell_scale[k], axis,
-                           photons_per_axis, edge);
-}
-
 // One edge of photon k's cell on its receiver's plane, along grid axis `axis` (0: u, 1: v)
 // between its neighbours before and after it on the invocation's grid (of `side` photons a
 // row): half the span between their rays on that plane (the photon differential), or the
 // span to the one whose ray meets it. Where neither does (both blocked above the water, or
-// running along the plane), k's own ray a grid step over (parallel_footprint_edge). False
-// with none of these.
+// running along the plane), k's own ray a grid step over (light_step_edge, caustic_splat.glsl).
+// False with none of these.
 bool footprint_edge(int k, int axis, int side, vec2 photons_per_axis, out vec3 edge) {
     int along = axis == 0 ? k % side : k / side, step = axis == 0 ? 1 : side;
     vec3 qa, qb;
     bool a = along > 0 && ray_on_receiver_plane(k - step, k, qa);
     bool b = along + 1 < side && ray_on_receiver_plane(k + step, k, qb);
     edge = a && b ? 0.5 * (qb - qa) : b ? qb - hit[k] : a ? hit[k] - qa : vec3(0.0);
-    return a || b || parallel_footprint_edge(k, axis, photons_per_axis, edge);
+    return a || b
+        || light_step_edge(hit[k], normal[k], surface[k], direction[k], window_uv[k], cell_scale[k], axis,
+                           photons_per_axis, edge);
 }
 
 vec3 photon_irradiance(int k) {
@@ -497,10 +493,9 @@ bool border_crossing(int k, int m, int axis, float sign, float f, out vec3 p, ou
 // runs along its receiver's plane, so that it has no cell edge there, or a polygon without
 // area): the photon's own footprint (its cell: two of the triangles around it) where that is
 // smaller than the paper's distance rule, whose 5-20 px blurred the edge of every lit region
-// by that much. Where the
-// footprint is larger (faces the light grazes, whose cells stretch), the rule's size:
-// footprint-sized squares there were grey blocks on the tank's cube, against faint streaks
-// in the reference.
+// by that much. Where the footprint is larger (faces the light grazes, whose cells stretch),
+// the rule's size: footprint-sized squares there were grey blocks on the tank's cube, against
+// faint streaks in the reference.
 void emit_corner_square(int k, vec3 flux, vec2 photons_per_axis) {
     float size = regulated_point_size(length(hit[k] - frame.camera_position), frame.z_near, frame.z_far,
                                       frame.point_size_min, frame.point_size_max);

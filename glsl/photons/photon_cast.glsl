@@ -182,6 +182,10 @@ const int PHOTON_LEAVES_MAP = 6;
 const int PHOTON_NOT_CONVERGED = 7;
 const int PHOTON_ABOVE_WATER = 8;
 const int PHOTON_NOT_FINITE = 9;
+// A landed footprint point's record code where the device's largest point clamped its
+// footprint (caustics.geom, FOOTPRINT_POINTS with PHOTON_DEBUG; flux_budget::FOOTPRINT_CLAMPED);
+// a landed photon's is otherwise 1.
+const float PHOTON_RECORD_FOOTPRINT_CLAMPED = 3.0;
 int photon_fate = PHOTON_LANDED; // set by every cast_photon
 
 // The light's ray to a photon's surface point: from `origin` along `direction`, meeting the
