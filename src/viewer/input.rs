@@ -137,12 +137,8 @@ impl Live {
             CausticEstimator::Triangles => CausticEstimator::Paper,
         };
         let what = format!("the {} estimator", e.caustic_estimator.name());
-        lower_subdivision("caustic", &mut e.caustic_subdivision, e.caustic_estimator.max_subdivision(), &what);
-        let least = e.caustic_estimator.min_subdivision();
-        if e.caustic_subdivision < least {
-            println!("caustic subdivision {} raised to {least} for {what}", e.caustic_subdivision);
-            e.caustic_subdivision = least;
-        }
+        let bounds = e.caustic_estimator.min_subdivision()..=e.caustic_estimator.max_subdivision();
+        fit_subdivision("caustic", &mut e.caustic_subdivision, bounds, &what);
         println!("caustic estimator: {}", e.caustic_estimator.name());
         self.gpu.rebuild_current(&self.view.scene)
     }
@@ -161,7 +157,7 @@ impl Live {
             GodrayMethod::Marched => GodrayMethod::Beams,
         };
         let what = format!("the {} godrays", e.godray_method.name());
-        lower_subdivision("godray", &mut e.godray_subdivision, e.godray_method.max_subdivision(), &what);
+        fit_subdivision("godray", &mut e.godray_subdivision, 1..=e.godray_method.max_subdivision(), &what);
         println!("godray method: {}", e.godray_method.name());
         self.gpu.rebuild_current(&self.view.scene)
     }
@@ -274,11 +270,13 @@ impl View {
     }
 }
 
-/// Lowers a `kind` (caustic, godray) subdivision to `max`, the bound of `what` (its geometry
-/// shader's output limit), saying so.
-fn lower_subdivision(kind: &str, subdivision: &mut u32, max: u32, what: &str) {
-    if *subdivision > max {
-        println!("{kind} subdivision {subdivision} lowered to {max} for {what}");
-        *subdivision = max;
+/// Brings a `kind` (caustic, godray) subdivision into `bounds`, those of `what` (its geometry
+/// shader's output limit above, the neighbours the footprint points need below), saying so.
+fn fit_subdivision(kind: &str, subdivision: &mut u32, bounds: std::ops::RangeInclusive<u32>, what: &str) {
+    let fitted = (*subdivision).clamp(*bounds.start(), *bounds.end());
+    if fitted != *subdivision {
+        let how = if fitted < *subdivision { "lowered" } else { "raised" };
+        println!("{kind} subdivision {subdivision} {how} to {fitted} for {what}");
+        *subdivision = fitted;
     }
 }
