@@ -1,7 +1,7 @@
 //! Rust twin of `glsl/shared/shader_math.glsl`: the same formulas, for CPU tests and (later) the
 //! reference renderer. Change both together.
 
-use glam::{UVec2, Vec2, Vec2Swizzles, Vec3, Vec3Swizzles};
+use glam::{Mat2, UVec2, Vec2, Vec2Swizzles, Vec3, Vec3Swizzles};
 use std::f32::consts::PI;
 
 /// The photon passes' subdivision bounds are part of the shader interface (`shader_abi::limits`).
@@ -516,6 +516,54 @@ pub fn strip_weight(code: f32) -> f32 {
     (1.0 - strip_across(code).abs()).max(0.0)
 }
 
+// Footprint hats (GLSL: shader_math.glsl, "Footprint hats").
+
+/// GLSL `FOOTPRINT_HAT_SAMPLES`: the samples per pixel axis at which a footprint point's hat
+/// is read.
+pub const FOOTPRINT_HAT_SAMPLES: f32 = 4.0;
+
+/// GLSL `footprint_hat_basis`: the hat's basis for a photon's spans to its grid neighbours on
+/// the target (columns, pixels), each singular value below 1 / FOOTPRINT_HAT_SAMPLES raised
+/// to it along its own direction.
+pub fn footprint_hat_basis(spans: Mat2) -> Mat2 {
+    let least = 1.0 / FOOTPRINT_HAT_SAMPLES;
+    let frobenius = (spans.x_axis.length_squared() + spans.y_axis.length_squared()).sqrt();
+    if spans.determinant().abs() >= least * frobenius {
+        return spans;
+    }
+    let gram = spans.transpose() * spans;
+    let half_trace = 0.5 * (gram.x_axis.x + gram.y_axis.y);
+    let det = gram.x_axis.x * gram.y_axis.y - gram.y_axis.x * gram.y_axis.x;
+    let spread = (half_trace * half_trace - det).max(0.0).sqrt();
+    let sigma = Vec2::new(half_trace + spread, (half_trace - spread).max(0.0)).map(f32::sqrt);
+    let a = Vec2::new(half_trace + spread - gram.y_axis.y, gram.y_axis.x);
+    let b = Vec2::new(gram.y_axis.x, half_trace + spread - gram.x_axis.x);
+    let longer = if a.dot(a) >= b.dot(b) { a } else { b };
+    let v1 = if longer.dot(longer) > 0.0 { longer.normalize() } else { Vec2::X };
+    let v2 = v1.perp();
+    let u1 = if sigma.x > 0.0 { spans * v1 / sigma.x } else { Vec2::X };
+    let u2 = if sigma.y > 1e-6 * sigma.x { spans * v2 / sigma.y } else { u1.perp() };
+    let raise = sigma.max(Vec2::splat(least)) - sigma;
+    let outer = |u: Vec2, v: Vec2| Mat2::from_cols(u * v.x, u * v.y);
+    spans + outer(u1, v1) * raise.x + outer(u2, v2) * raise.y
+}
+
+/// GLSL `footprint_hat_share`: the share of the hat centred on `centre` (basis inverse
+/// `to_lattice`) that the pixel centred on `pixel` takes, its mean over the pixel's samples.
+pub fn footprint_hat_share(pixel: Vec2, centre: Vec2, to_lattice: Mat2) -> f32 {
+    let n = FOOTPRINT_HAT_SAMPLES as usize;
+    let (step_x, step_y) = (to_lattice.x_axis / FOOTPRINT_HAT_SAMPLES, to_lattice.y_axis / FOOTPRINT_HAT_SAMPLES);
+    let first = to_lattice * (pixel - centre) - 0.5 * (FOOTPRINT_HAT_SAMPLES - 1.0) * (step_x + step_y);
+    let mut sum = 0.0;
+    for j in 0..n {
+        for i in 0..n {
+            let tent = (Vec2::ONE - (first + i as f32 * step_x + j as f32 * step_y).abs()).max(Vec2::ZERO);
+            sum += tent.x * tent.y;
+        }
+    }
+    sum / (FOOTPRINT_HAT_SAMPLES * FOOTPRINT_HAT_SAMPLES)
+}
+
 // Photon casting (GLSL: photon_cast.glsl, `cast_photon`).
 
 /// A photon that reached a receiver (GLSL `Photon`).
@@ -916,7 +964,7 @@ mod tests {
                 None => number(value),
             }
         };
-        let twins: [(&str, f64); 7] = [
+        let twins: [(&str, f64); 8] = [
             ("WATER_MAX_MARCH_STEPS", WATER_MAX_MARCH_STEPS as f64),
             ("WATER_REFINE_STEPS", WATER_REFINE_STEPS as f64),
             ("WATER_REFINE_RESIDUAL", WATER_REFINE_RESIDUAL as f64),
@@ -924,10 +972,136 @@ mod tests {
             ("ITERATION_RESIDUAL", ITERATION_RESIDUAL as f64),
             ("CAUSTIC_DEPTH_TOLERANCE", CAUSTIC_DEPTH_TOLERANCE as f64),
             ("PHOTON_RECORD_FOOTPRINT_CLAMPED", crate::flux_budget::FOOTPRINT_CLAMPED as f64),
+            ("FOOTPRINT_HAT_SAMPLES", FOOTPRINT_HAT_SAMPLES as f64),
         ];
         for (name, rust) in twins {
             let g = glsl(name);
             assert!((g - rust).abs() <= 1e-7 * g.abs().max(1.0), "{name}: GLSL {g}, Rust {rust}");
+        }
+    }
+
+    /// Footprint points: the photons of a lattice however rotated, sheared or fine, each
+    /// spreading its light by its hat (`footprint_hat_basis` of its spans, sampled by
+    /// `footprint_hat_share`), light every pixel alike. Axis-aligned tents of each footprint's
+    /// extent, the build before, rippled on an oblique lattice: that check is here too.
+    #[test]
+    fn footprint_hats_light_a_lattice_evenly_at_any_angle_and_scale() {
+        let pixels_in = |c: Vec2, basis: Mat2| -> Vec<Vec2> {
+            let reach = (basis.x_axis.abs() + basis.y_axis.abs()).ceil() + Vec2::ONE;
+            let (lo, hi) = ((c - reach).floor(), (c + reach).ceil());
+            let mut out = Vec::new();
+            for y in lo.y as i32..=hi.y as i32 {
+                for x in lo.x as i32..=hi.x as i32 {
+                    out.push(Vec2::new(x as f32 + 0.5, y as f32 + 0.5));
+                }
+            }
+            out
+        };
+        // (spans as columns, the angle they are turned by): square, stretched, sheared, under
+        // a pixel, under the samples' spacing.
+        let lattices = [
+            (Mat2::from_cols(Vec2::new(2.3, 0.0), Vec2::new(0.0, 2.3)), 0.5),
+            (Mat2::from_cols(Vec2::new(4.0, 0.0), Vec2::new(0.0, 1.3)), 0.9),
+            (Mat2::from_cols(Vec2::new(2.0, 0.7), Vec2::new(-0.4, 1.6)), 2.1),
+            (Mat2::from_cols(Vec2::new(0.7, 0.0), Vec2::new(0.0, 0.55)), 0.3),
+            (Mat2::from_cols(Vec2::new(0.3, 0.1), Vec2::new(0.05, 0.2)), 1.0),
+        ];
+        for (spans, angle) in lattices {
+            let spans = Mat2::from_angle(angle) * spans;
+            let basis = footprint_hat_basis(spans);
+            let to_lattice = basis.inverse();
+            // Every photon's light is its footprint's area; it lands as its hat's shares.
+            let light = spans.determinant().abs();
+            let per_share = light / basis.determinant().abs();
+            let origin = Vec2::new(40.3, 40.7);
+            let mut image = std::collections::HashMap::<(i32, i32), f32>::new();
+            let (mut oblique, mut cell_area) = (std::collections::HashMap::<(i32, i32), f32>::new(), 0.0);
+            for j in -160..=160 {
+                for i in -160..=160 {
+                    let c = origin + spans * Vec2::new(i as f32, j as f32);
+                    if (c - origin).abs().max_element() > 30.0 {
+                        continue;
+                    }
+                    for p in pixels_in(c, basis) {
+                        let key = (p.x as i32, p.y as i32);
+                        *image.entry(key).or_default() += per_share * footprint_hat_share(p, c, to_lattice);
+                    }
+                    // The build before: a rectangle of the footprint's area and its extents'
+                    // aspect, each axis a tent of its side integrated over the pixel.
+                    let extent = spans.x_axis.abs() + spans.y_axis.abs();
+                    let side = light.sqrt() * (extent / extent.yx()).map(f32::sqrt);
+                    cell_area = light;
+                    let below = |t: f32| {
+                        let t = t.clamp(-1.0, 1.0);
+                        if t < 0.0 {
+                            0.5 * (1.0 + t) * (1.0 + t)
+                        } else {
+                            1.0 - 0.5 * (1.0 - t) * (1.0 - t)
+                        }
+                    };
+                    for p in pixels_in(c, Mat2::from_diagonal(side)) {
+                        let share = |a: usize| {
+                            (below((p[a] + 0.5 - c[a]) / side[a]) - below((p[a] - 0.5 - c[a]) / side[a])) * side[a]
+                        };
+                        *oblique.entry((p.x as i32, p.y as i32)).or_default() += share(0) * share(1);
+                    }
+                }
+            }
+            // The pixels well inside the lit square: each holds the light of a pixel's area.
+            let spread = |image: &std::collections::HashMap<(i32, i32), f32>| {
+                let inside: Vec<f32> = image
+                    .iter()
+                    .filter(|((x, y), _)| {
+                        (Vec2::new(*x as f32 + 0.5, *y as f32 + 0.5) - origin).abs().max_element() < 20.0
+                    })
+                    .map(|(_, v)| *v)
+                    .collect();
+                let mean = inside.iter().sum::<f32>() / inside.len() as f32;
+                let worst = inside.iter().map(|v| (v / mean - 1.0).abs()).fold(0.0, f32::max);
+                (mean, worst)
+            };
+            let (mean, worst) = spread(&image);
+            let label = format!("spans {spans:?}");
+            assert!((mean - 1.0).abs() < 2e-3, "{label}: the mean pixel holds {mean}");
+            let even = if spans.x_axis.length().min(spans.y_axis.length()) >= 1.0 / FOOTPRINT_HAT_SAMPLES {
+                2e-3
+            } else {
+                0.03
+            };
+            assert!(worst < even, "{label}: a pixel {worst} off the mean");
+            if angle == 2.1 {
+                let (_, before) = spread(&oblique);
+                assert!(
+                    before > 0.05 && cell_area > 1.0,
+                    "{label}: the rectangles' ripple {before} (the check is blind)"
+                );
+            }
+        }
+    }
+
+    /// A lone hat keeps its light wherever it lies against the pixels: exactly when it is under
+    /// the samples' spacing along the pixel axes (widened to it, its tents sum to one over the
+    /// samples), and within a percent from 1.7 pixels across at any angle. Between, a lone hat
+    /// is read coarsely (over 200 random offsets, a 0.6-pixel hat deposits 0.97–1.06 of its
+    /// light, a tenth of a pixel turned by 0.7 rad 0.84–1.29); among its lattice's neighbours
+    /// the shares still sum to the light (the test above).
+    #[test]
+    fn footprint_hats_deposit_their_light() {
+        for (size, angle, tolerance) in [(0.1f32, 0.0f32, 1e-4), (3.4, 0.0, 0.01), (1.7, 0.4, 0.01), (5.0, 1.1, 0.01)] {
+            let spans = Mat2::from_angle(angle) * Mat2::from_diagonal(Vec2::new(size, 0.8 * size));
+            let basis = footprint_hat_basis(spans);
+            let to_lattice = basis.inverse();
+            for offset in [Vec2::new(0.5, 0.5), Vec2::new(0.13, 0.71), Vec2::new(0.97, 0.02)] {
+                let centre = Vec2::new(20.0, 20.0) + offset;
+                let mut total = 0.0;
+                for y in 0..40 {
+                    for x in 0..40 {
+                        total += footprint_hat_share(Vec2::new(x as f32 + 0.5, y as f32 + 0.5), centre, to_lattice);
+                    }
+                }
+                let ratio = total / basis.determinant().abs();
+                assert!((ratio - 1.0).abs() < tolerance, "size {size}, angle {angle}, offset {offset}: {ratio}");
+            }
         }
     }
 

@@ -195,8 +195,9 @@ fn footprint_points_report_the_footprints_the_device_clamped() {
     // its receiver, up to the device's largest point. The flux budget records the points
     // that bound clamped (record code FOOTPRINT_CLAMPED), with their photons still landed.
     // With the tank's 100² × 3² photons at 160×100 only a few on the walls the camera grazes
-    // reach it (measured on lavapipe, whose largest point is 255 px: 17 of 85 054, 0.09 % of
-    // the light); a 1×1 grid of 2 × 2 photons gives each a quarter of the pool, larger than
+    // reach it (measured on lavapipe, whose largest point is 255 px: 111 of 85 054, 0.47 % of
+    // the light, since each point covers its hat's reach; 17, 0.09 %, with the rectangles
+    // before the hats); a 1×1 grid of 2 × 2 photons gives each a quarter of the pool, larger than
     // any point (2 of the 4 that land, 32 % of the light).
     let ctx = validated_context();
     let mut clamped = Vec::new();

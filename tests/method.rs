@@ -829,9 +829,10 @@ fn footprint_points_light_flat_water_exactly() {
     // down the refracted light, and neighbouring footprints tile the floor: each pixel holds
     // the analytic irradiance, on the even grid and on one warped to the view (whose cells
     // differ in size across the floor). Measured on lavapipe: per-pixel std 0.0007 % on the
-    // even grid, 0.5 % on the view's. Spread by boxes of their rectangles instead of tents
-    // (each pixel taking the share of it the rectangle covers), whose slanted lattice leaves
-    // seams and overlaps, the view's grid read a std of 4.5 % (peak 1.18) and failed.
+    // even grid, 0.31 % on the view's (peak 1.024), with each photon spread by its hat on the
+    // lattice; 0.5 % (peak 1.038) with the build before's tents along the pixel axes, and,
+    // spread by boxes of rectangles (each pixel taking the share of it the rectangle
+    // covers), whose slanted lattice leaves seams and overlaps, 4.5 % (peak 1.18): failed.
     for density in [underlight::scene::PhotonSpread::Even, underlight::scene::PhotonSpread::View] {
         let mut scene = pool_with(0.0, CausticEstimator::Footprint, 320);
         scene.effects.caustic_photon_density = density;
@@ -951,7 +952,10 @@ fn footprint_points_resolve_a_cusp_pair_two_centimetres_apart() {
     // for the view (about the shipped triangles' caustic pass on lavapipe, docs/accuracy.md):
     // their footprints shrink where the folds focus the light, so the tents that spread
     // them stay under a pixel there. Measured on lavapipe: the folds 1.9 cm apart, peaks
-    // +1.0 % and +7.1 % from the exact profile (the triangles as shipped: −2.0 % and −1.7 %).
+    // −8.0 % and −8.0 % from the exact profile, a tenth of the fold's light a pixel outside
+    // it, where the hats' samples, a quarter of a pixel apart, read the fold (−10.3 % with
+    // three samples per axis, which failed; +1.0 % and +7.1 % with the build before's tents
+    // along the pixel axes, integrated exactly; the triangles as shipped: −2.0 % and −1.7 %).
     let mut effects = underlight::scene::load("tank").unwrap().effects;
     effects.caustic_estimator = CausticEstimator::Footprint;
     effects.caustic_grid = 160;

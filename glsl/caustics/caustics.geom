@@ -29,7 +29,8 @@ layout(push_constant) uniform GridPush { uint grid; } pc;
 layout(location = 0) flat in uvec2 v_cell[];
 layout(location = 0) flat out vec3 g_irradiance; // irradiance / E_surface per covered pixel
 #ifdef FOOTPRINT_POINTS
-layout(location = 1) flat out vec4 g_square; // centre, width and height on the target, pixels (caustics.frag)
+layout(location = 1) flat out vec2 g_centre;     // on the target, pixels (caustics.frag)
+layout(location = 2) flat out vec4 g_to_lattice; // its hat's inverse basis, columns: pixels to the hat's (s, t)
 #endif
 
 #ifdef FOOTPRINT_POINTS
@@ -39,14 +40,14 @@ layout(location = 1) flat out vec4 g_square; // centre, width and height on the 
 // of the photon window refracted onto its receiver: the mean of the four quarters of the mesh
 // cells around it, from the spans to its neighbours on its receiver (footprint_edges). The
 // photon's irradiance is its flux over the footprint, so sparse photons cover the floor
-// between them and dense ones stay under a pixel where the waves focus them. Its point is a
-// rectangle on the target of the footprint's pixels and aspect, not rounded to whole pixels
-// (whole pixels left a lattice of seams and overlaps where footprints are 1–2 px): the
-// fragment shader (caustics.frag, FOOTPRINT_POINTS) spreads its flux exactly by a tent of the
-// rectangle's size per axis, and neighbouring tents sum to a constant. The point drawn is a
-// pixel wider than twice the rectangle's larger side, within the device's largest point; the
-// flux budget (`render --flux-budget`) counts the photons that bound clamped. A photon whose
-// ray runs along its receiver takes the paper's size, which is bounded.
+// between them and dense ones stay under a pixel where the waves focus them. It spreads that
+// light over the target by a hat on its cell of the lattice the photons form there, the spans
+// to its neighbours projected (footprint_hat_basis and footprint_hat_share, shader_math.glsl):
+// neighbouring hats sum to 1 however the lattice is turned, so the footprints tile without
+// seams, overlaps or moiré, and the caustic between photons is their irradiance interpolated.
+// The point drawn covers the hat, within the device's largest point; the flux budget
+// (`render --flux-budget`) counts the photons that bound clamped. A photon whose ray runs
+// along its receiver takes the paper's size, which is bounded, as a square hat.
 const int MAX_PHOTONS = MAX_SUBDIVISION * MAX_SUBDIVISION;
 vec3 hit[MAX_PHOTONS];
 vec3 normal[MAX_PHOTONS]; // unit; zero where the light's normal map holds none
@@ -141,7 +142,8 @@ void main() {
         float size = regulated_point_size(length(hit[k] - frame.camera_position), frame.z_near, frame.z_far,
                                           frame.point_size_min, frame.point_size_max);
         float footprint = 0.0;
-        vec2 sides = vec2(1.0); // the rectangle's width and height over its side (an area's square root)
+        float pixels = size * size; // the footprint's area on the target
+        mat2 spans = mat2(size, 0.0, 0.0, size); // its cell's edges there, as columns
         vec2 du[2], dv[2];
         if (normal[k] != vec3(0.0) && footprint_edges(k, 0, side, vec2(photons_per_axis), u[0], u[1])
             && footprint_edges(k, 1, side, vec2(photons_per_axis), v[0], v[1])
@@ -155,43 +157,43 @@ void main() {
             // Its pixels: the same quarters projected onto the target, not its area over the
             // area a pixel covers at the hit (pixel_world_area), which is clamped at grazing
             // views, where the points read up to 20 % too bright.
-            float pixels = 0.0;
-            vec2 extent = vec2(0.0);
+            pixels = 0.0;
             for (int a = 0; a < 2; ++a) {
                 for (int b = 0; b < 2; ++b) {
                     footprint += 0.25 * length(cross(u[a], v[b]));
                     pixels += 0.25 * abs(du[a].x * dv[b].y - du[a].y * dv[b].x);
                 }
-                extent += 0.5 * (abs(du[a]) + abs(dv[a]));
             }
-            size = sqrt(pixels);
-            // A rectangle of the footprint's area with its extents' aspect on the target:
-            // a face the camera or the light grazes stretches its footprints one way, and
-            // squares of their area overlapped along it and left seams across it (bands of
-            // moiré on the tank's walls).
-            if (extent.x > 0.0 && extent.y > 0.0) sides = sqrt(extent / extent.yx);
+            // The hat's cell: the mean spans to the neighbours either side along each axis.
+            spans = mat2(0.5 * (du[0] + du[1]), 0.5 * (dv[0] + dv[1]));
         }
-        // The point drawn is a pixel wider than twice the rectangle's larger side (its tents'
-        // reach), within the device's largest point: a larger rectangle shrinks, brighter,
-        // keeping its flux. A footprint of no area (a fold's photon) keeps a thousandth of a
-        // pixel: its light on the pixel it is in.
-        vec2 rectangle = size * sides;
-        float across = max(rectangle.x, rectangle.y);
-        float shrink = across > 0.5 * (largest - 1.0) ? 0.5 * (largest - 1.0) / across : 1.0;
-        rectangle = max(rectangle * shrink, vec2(1e-3));
+        // The point drawn covers every pixel whose samples the hat reaches (its basis's reach
+        // along each pixel axis either side, and the samples' own reach from their pixel's
+        // centre, (S − 1) / 2S), within the device's largest point: a larger hat shrinks,
+        // brighter, keeping the photon's light.
+        mat2 basis = footprint_hat_basis(spans);
+        vec2 reach = abs(basis[0]) + abs(basis[1]);
+        float across = max(reach.x, reach.y);
+        float samples_reach = 0.5 - 0.5 / FOOTPRINT_HAT_SAMPLES;
+        float shrink = across + samples_reach > 0.5 * largest ? (0.5 * largest - samples_reach) / across : 1.0;
+        basis *= shrink;
         bool clamped = footprint > 0.0 && shrink < 1.0;
 #ifdef PHOTON_DEBUG
         if (clamped) photon_debug.records[2 * record[k]].w = PHOTON_RECORD_FOOTPRINT_CLAMPED;
 #endif
         CausticSplat splat;
-        if (!caustic_square_on(hit[k], normal[k], flux[k], max(rectangle.x, rectangle.y), splat)) continue;
-        // The footprint's irradiance: the photon's flux over its area, which its rectangle
-        // deposits over the pixels it covers (fewer, where it shrank).
-        if (footprint > 0.0) splat.irradiance.rgb = flux[k] / (footprint * shrink * shrink * frame.surface_irradiance);
+        if (!caustic_square_on(hit[k], normal[k], flux[k], across * shrink, splat)) continue;
+        // The photon's light in pixels × irradiance: its flux over its footprint's area, over
+        // that area's pixels (or the paper's square's irradiance over its pixels), which its
+        // hat's shares deposit, each carrying light over the hat's area.
+        vec3 light = footprint > 0.0 ? flux[k] / (footprint * frame.surface_irradiance) * pixels
+                                     : splat.irradiance.rgb * pixels;
         gl_Position = splat.clip;
-        gl_PointSize = 2.0 * max(rectangle.x, rectangle.y) + 1.0;
-        g_irradiance = splat.irradiance.rgb;
-        g_square = vec4((splat.clip.xy / splat.clip.w * 0.5 + 0.5) * frame.caustic_target_size, rectangle);
+        gl_PointSize = 2.0 * (across * shrink + samples_reach);
+        g_irradiance = light / abs(determinant(basis));
+        g_centre = (splat.clip.xy / splat.clip.w * 0.5 + 0.5) * frame.caustic_target_size;
+        mat2 to_lattice = inverse(basis);
+        g_to_lattice = vec4(to_lattice[0], to_lattice[1]);
         EmitVertex();
     }
 }

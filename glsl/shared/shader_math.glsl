@@ -396,4 +396,67 @@ float strip_weight(float code) {
     return max(1.0 - abs(strip_across(code)), 0.0);
 }
 
+// ---------------------------------------------------------------------------------------
+// Footprint hats (the footprint-sized points: caustics.geom and caustics.frag with
+// FOOTPRINT_POINTS; docs/accuracy.md, "Footprint-sized points"). A photon spreads its light
+// over the target by a hat on its cell of the photon lattice: T(s) · T(t), T the unit tent
+// max(1 − |x|, 0) and (s, t) a point's coordinates in the basis of the spans to the photon's
+// grid neighbours on the target. However the lattice is rotated or sheared, its hats sum to 1
+// everywhere, so light the photons spread evenly lands evenly. (Tents along the pixel axes,
+// a rectangle's, sum to a ripple on a lattice oblique to them, which the pixel grid turned
+// into moiré on the floors the camera sees at a slant.) The hat is sampled at
+// FOOTPRINT_HAT_SAMPLES² points spread evenly over each pixel, so a pixel takes about the
+// hat's mean over its area. A basis whose singular values are below the samples' spacing is
+// widened to it: tents as wide as the samples' spacing sum to 1 over the samples whatever
+// their offset, so a photon much smaller than a pixel still deposits its light (exactly,
+// for a hat along the pixel axes), where a narrower one could fall between samples.
+// Rust twin: shader_math::footprint_hat_*. Compiled only into the shaders that define
+// FOOTPRINT_POINTS, so the others' SPIR-V does not carry them.
+#ifdef FOOTPRINT_POINTS // only their shaders compile it
+const float FOOTPRINT_HAT_SAMPLES = 4.0;
+
+// The hat's basis for the spans `spans` (columns: the photon's cell edges along the grid's
+// two axes, target pixels): the spans themselves, with each singular value below 1 /
+// FOOTPRINT_HAT_SAMPLES raised to it along its own direction.
+mat2 footprint_hat_basis(mat2 spans) {
+    float least = 1.0 / FOOTPRINT_HAT_SAMPLES;
+    // Most photons' spans need nothing: the smaller singular value is |det| over the larger,
+    // which the spans' Frobenius norm bounds from above.
+    float frobenius = sqrt(dot(spans[0], spans[0]) + dot(spans[1], spans[1]));
+    if (abs(determinant(spans)) >= least * frobenius) return spans;
+    // The singular vectors: spansᵀ · spans's eigenvectors, from either row of (gram − λ1 I),
+    // the longer (the other vanishes when the spans are already orthogonal).
+    mat2 gram = transpose(spans) * spans;
+    float half_trace = 0.5 * (gram[0][0] + gram[1][1]);
+    float spread = sqrt(max(half_trace * half_trace - (gram[0][0] * gram[1][1] - gram[0][1] * gram[0][1]), 0.0));
+    vec2 sigma = sqrt(vec2(half_trace + spread, max(half_trace - spread, 0.0)));
+    vec2 a = vec2(half_trace + spread - gram[1][1], gram[0][1]);
+    vec2 b = vec2(gram[0][1], half_trace + spread - gram[0][0]);
+    vec2 longer = dot(a, a) >= dot(b, b) ? a : b;
+    vec2 v1 = dot(longer, longer) > 0.0 ? normalize(longer) : vec2(1.0, 0.0);
+    vec2 v2 = vec2(-v1.y, v1.x);
+    vec2 u1 = sigma.x > 0.0 ? spans * v1 / sigma.x : vec2(1.0, 0.0);
+    // The second's own image where it has one: its sign fixes the hat's orientation.
+    vec2 u2 = sigma.y > 1e-6 * sigma.x ? spans * v2 / sigma.y : vec2(-u1.y, u1.x);
+    vec2 raise = max(sigma, vec2(least)) - sigma;
+    return spans + raise.x * outerProduct(u1, v1) + raise.y * outerProduct(u2, v2);
+}
+
+// The pixel centred on `pixel`'s share of the hat centred on `centre` with `to_lattice` the
+// inverse of its basis: the hat's mean over the pixel's samples. Over every pixel the shares
+// sum to about the hat's area, |det basis| pixels.
+float footprint_hat_share(vec2 pixel, vec2 centre, mat2 to_lattice) {
+    vec2 step_x = to_lattice[0] / FOOTPRINT_HAT_SAMPLES, step_y = to_lattice[1] / FOOTPRINT_HAT_SAMPLES;
+    vec2 first = to_lattice * (pixel - centre) - 0.5 * (FOOTPRINT_HAT_SAMPLES - 1.0) * (step_x + step_y);
+    float sum = 0.0;
+    for (int j = 0; j < int(FOOTPRINT_HAT_SAMPLES); ++j) {
+        for (int i = 0; i < int(FOOTPRINT_HAT_SAMPLES); ++i) {
+            vec2 tent = max(1.0 - abs(first + float(i) * step_x + float(j) * step_y), 0.0);
+            sum += tent.x * tent.y;
+        }
+    }
+    return sum / (FOOTPRINT_HAT_SAMPLES * FOOTPRINT_HAT_SAMPLES);
+}
+#endif // FOOTPRINT_POINTS
+
 #endif
