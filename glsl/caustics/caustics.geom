@@ -79,12 +79,16 @@ bool footprint_edges(int k, int axis, int side, vec2 photons_per_axis, out vec3 
     return own;
 }
 
-// A cell edge's span on the target, pixels, from the photon at clip position `clip`
-// (linearised there); false where its end lies behind the camera.
-bool target_span(vec3 at, vec4 clip, vec3 edge, out vec2 span) {
-    vec4 end = frame.camera_view_proj * vec4(at + edge, 1.0);
-    span = (end.xy / end.w - clip.xy / clip.w) * 0.5 * frame.caustic_target_size;
-    return end.w > frame.z_near;
+// A cell edge's span on the target, pixels: the camera's projection linearised at the photon
+// (clip position `clip`, in front of the camera). Projecting the edge's far end instead made
+// the span, and the light the photon deposits (its irradiance times its pixels), grow
+// without bound where that end nears the camera's plane: on the tank at 96×60 with 24² × 3²
+// photons, a few photons on the tall pillar drew streaks across the frame and +21 % of the
+// caustic flux. Linearised, its pixels over its footprint are the projection's own ratio at
+// the hit, and a small cell's span is the same to first order.
+vec2 target_span(vec4 clip, vec3 edge) {
+    vec4 along = frame.camera_view_proj * vec4(edge, 0.0);
+    return (along.xy * clip.w - clip.xy * along.w) / (clip.w * clip.w) * 0.5 * frame.caustic_target_size;
 }
 
 void main() {
@@ -146,9 +150,11 @@ void main() {
         mat2 spans = mat2(size, 0.0, 0.0, size); // its cell's edges there, as columns
         vec2 du[2], dv[2];
         if (normal[k] != vec3(0.0) && footprint_edges(k, 0, side, vec2(photons_per_axis), u[0], u[1])
-            && footprint_edges(k, 1, side, vec2(photons_per_axis), v[0], v[1])
-            && target_span(hit[k], clip, u[0], du[0]) && target_span(hit[k], clip, u[1], du[1])
-            && target_span(hit[k], clip, v[0], dv[0]) && target_span(hit[k], clip, v[1], dv[1])) {
+            && footprint_edges(k, 1, side, vec2(photons_per_axis), v[0], v[1])) {
+            for (int a = 0; a < 2; ++a) {
+                du[a] = target_span(clip, u[a]);
+                dv[a] = target_span(clip, v[a]);
+            }
             // The footprint: the mean of the four quarters of the mesh cells around the
             // photon, each |area| (a folded cell keeps its area, as a folded triangle does).
             // One parallelogram of the edges' means cancelled where the waves fold the light
