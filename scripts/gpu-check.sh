@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The project's GPU check in one command: the paper's four configurations and the shipped
-# triangles on every photon path, the scaling curves, the three godray methods (lines,
+# The project's GPU check in one command: the paper's four configurations, the shipped
+# footprint points and the triangles on every photon path, the scaling curves, the three godray methods (lines,
 # footprint ribbons, ray march) in one run, and the shipped settings' accuracy on the three
 # built-in scenes against the CPU reference. Output: one JSON file and one
 # Markdown file (docs/performance.md, "On a GPU", says how to read them).
@@ -36,10 +36,10 @@ while [ $# -gt 0 ]; do
 done
 
 scenes=(tank port storage)
-# The shipped settings (assets/scenes/*.toml [effects]) as sweep axes, and the size the
-# accuracy tables in docs/accuracy.md use; each also refined at receivers' borders
-# (effects.caustic_refinement, off as shipped), whose second draw is geometry-shader work.
-sweep_axes=(--width 320 --height 200 --grid 100 --subdiv 3 --estimator triangles --filter on --refinement off,on)
+# The shipped settings (assets/scenes/*.toml [effects]: footprint points, 150² × 3²) as sweep
+# axes, and the size the accuracy tables in docs/accuracy.md use; beside them the triangles
+# with the same photons, whose mesh is the other geometry-shader estimator.
+sweep_axes=(--width 320 --height 200 --grid 150 --subdiv 3 --estimator footprint,triangles --filter on)
 
 if [ "$mode" = prepare ]; then
   cargo build --release
@@ -74,10 +74,10 @@ if [ "$mode" = quick ]; then
   godray_configs=""
   frames=(--frames 2 --warmup 1)
   scenes=(tank)
-  sweep_axes=(--width 96 --height 60 --grid 24 --subdiv 3 --estimator triangles --filter on --refinement off,on
+  sweep_axes=(--width 96 --height 60 --grid 24 --subdiv 3 --estimator footprint,triangles --filter on
     --photons 200000 --beams 50000)
 else
-  configs=paper-800,paper-1440,paper-1m-photons,paper-1440-high,triangles-800,refined-800
+  configs=paper-800,paper-1440,paper-1m-photons,paper-1440-high,footprint-points-800,triangles-800,refined-800
   godray_configs=triangles-800,footprint-800,marched-800
   frames=(--frames 20 --warmup 3)
 fi

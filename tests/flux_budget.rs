@@ -29,10 +29,10 @@ fn every_photon_and_watt_is_accounted_for() {
     let ctx = validated_context();
     for name in ["tank", "port", "storage"] {
         let mut scene = underlight::scene::load(name).unwrap();
-        // The scenes' own estimator, the triangles: their photons are recorded through the
-        // points' recording variant, on the triangles' grid, N/k × N·k coarse cells for the
-        // survey's k (the port's and the storage's are not 1).
-        assert_eq!(scene.effects.caustic_estimator, CausticEstimator::Triangles);
+        // The triangles, which the scenes shipped until the footprint points: their photons
+        // are recorded through the points' recording variant, on the triangles' grid, N/k ×
+        // N·k coarse cells for the survey's k (the port's and the storage's are not 1).
+        scene.effects.caustic_estimator = CausticEstimator::Triangles;
         scene.effects.caustic_grid = 48;
         scene.effects.caustic_subdivision = 2;
         scene.effects.godrays = false;
@@ -194,16 +194,17 @@ fn footprint_points_report_the_footprints_the_device_clamped() {
     // effects.caustic_estimator = "footprint": each point is as large as its photon's cell on
     // its receiver, up to the device's largest point. The flux budget records the points
     // that bound clamped (record code FOOTPRINT_CLAMPED), with their photons still landed.
-    // With the tank's 100² × 3² photons at 160×100 only a few on the walls the camera grazes
-    // reach it (measured on lavapipe, whose largest point is 255 px: 111 of 85 054, 0.47 % of
-    // the light, since each point covers its hat's reach; 17, 0.09 %, with the rectangles
-    // before the hats); a 1×1 grid of 2 × 2 photons gives each a quarter of the pool, larger than
+    // With the tank's shipped 150² × 3² photons at 160×100 only a few on the walls the camera
+    // grazes reach it (measured on lavapipe, whose largest point is 255 px: 257 of 191 303,
+    // 0.47 % of the light, with each point covering its hat's reach; at 100² × 3² 17 of
+    // 85 054, 0.09 %, with the rectangles before the hats); a 1×1 grid of 2 × 2 photons gives each a quarter of the pool, larger than
     // any point (2 of the 4 that land, 32 % of the light).
     let ctx = validated_context();
     let mut clamped = Vec::new();
-    for (grid, subdivision) in [(100, 3), (1, 2)] {
+    let shipped = underlight::scene::load("tank").unwrap().effects;
+    assert_eq!(shipped.caustic_estimator, CausticEstimator::Footprint);
+    for (grid, subdivision) in [(shipped.caustic_grid, shipped.caustic_subdivision), (1, 2)] {
         let mut scene = underlight::scene::load("tank").unwrap();
-        scene.effects.caustic_estimator = CausticEstimator::Footprint;
         scene.effects.caustic_grid = grid;
         scene.effects.caustic_subdivision = subdivision;
         scene.effects.godrays = false;

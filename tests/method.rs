@@ -355,8 +355,10 @@ fn photons_of_the_exchanged_warp_agree_with_the_cpu_twin() {
     // (`photon_density::shaped_for_the_mesh`; docs/accuracy.md, "The warp's order"): the
     // shader's exchanged warp (`photon_density_warp` mode 2) against the twin's, photon for
     // photon. The survey's rays do not depend on the output's size, only on its aspect.
+    // The survey shapes the triangles' mesh only, so the storage draws them here.
     let mut scene = underlight::scene::load("storage").unwrap();
     scene.output = [160, 100];
+    scene.effects.caustic_estimator = CausticEstimator::Triangles;
     scene.effects.caustic_grid = 32;
     scene.effects.caustic_subdivision = 3;
     compare_scene_photons_with_twin(
@@ -936,29 +938,31 @@ fn the_shipped_estimator_resolves_a_cusp_pair_two_centimetres_apart() {
     // A sinusoidal wave a little past its first fold: each trough focuses the sun into two
     // fold caustics 2 cm apart on the floor 2 m down (a = 3.85 cm, λ = 0.8 m), with three
     // sheets of light between them. The paper's 5 px points merged such a pair into one peak
-    // 23 % too low (issue 16). The shipped estimator (triangles 100² × 3², photons spread for
-    // the view) must show two peaks, each within 10 % of the exact pixel-averaged profile.
-    // Measured on lavapipe (2026-12-06): the folds 1.9 cm apart, peaks −2.0 % and −1.7 % from
-    // the exact profile (−0.7 % and −1.1 % when this test was written; the bound is 10 %), the
-    // minimum between them well below both. The paper's points (200² × 2², 5–20 px)
-    // fail: one blurred hump, its peaks at −49 %.
+    // 23 % too low (issue 16). The shipped estimator (footprint points 150² × 3², photons
+    // spread for the view) must show two peaks, each within 10 % of the exact pixel-averaged
+    // profile. Their footprints shrink where the folds focus the light, so the hats that
+    // spread them stay under a pixel there. Measured on lavapipe (2026-12-06): the folds
+    // 1.9 cm apart, peaks −8.0 % and −8.0 % from the exact profile, a tenth of each fold's
+    // light a pixel outside it, where the hats' samples, a quarter of a pixel apart, read the
+    // fold (at 160² × 3² the same; −10.3 % with three samples per axis, which failed; +1.0 %
+    // and +7.1 % with the tenth session's tents along the pixel axes, integrated exactly).
+    // The minimum between the peaks lies well below both. The paper's points (200² × 2²,
+    // 5–20 px) fail: one blurred hump, its peaks at −49 %.
     let shipped = underlight::scene::load("tank").unwrap().effects;
+    assert_eq!(shipped.caustic_estimator, CausticEstimator::Footprint);
     assert_resolves_the_cusp_pair(shipped);
 }
 
 #[test]
-fn footprint_points_resolve_a_cusp_pair_two_centimetres_apart() {
-    // The cusp pair above, drawn by the footprint-sized points at 160² × 3² photons spread
-    // for the view (about the shipped triangles' caustic pass on lavapipe, docs/accuracy.md):
-    // their footprints shrink where the folds focus the light, so the tents that spread
-    // them stay under a pixel there. Measured on lavapipe: the folds 1.9 cm apart, peaks
-    // −8.0 % and −8.0 % from the exact profile, a tenth of the fold's light a pixel outside
-    // it, where the hats' samples, a quarter of a pixel apart, read the fold (−10.3 % with
-    // three samples per axis, which failed; +1.0 % and +7.1 % with the build before's tents
-    // along the pixel axes, integrated exactly; the triangles as shipped: −2.0 % and −1.7 %).
+fn triangles_resolve_a_cusp_pair_two_centimetres_apart() {
+    // The cusp pair above, drawn by the warped-cell triangles at 100² × 3² photons spread for
+    // the view, as the scenes shipped them until the footprint points (about the same
+    // caustic pass on lavapipe, docs/accuracy.md). Measured on lavapipe (2026-12-06): the
+    // folds 1.9 cm apart, peaks −2.0 % and −1.7 % from the exact profile (−0.7 % and −1.1 %
+    // when this test was written).
     let mut effects = underlight::scene::load("tank").unwrap().effects;
-    effects.caustic_estimator = CausticEstimator::Footprint;
-    effects.caustic_grid = 160;
+    effects.caustic_estimator = CausticEstimator::Triangles;
+    effects.caustic_grid = 100;
     assert_resolves_the_cusp_pair(effects);
 }
 

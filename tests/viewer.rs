@@ -69,8 +69,8 @@ fn viewer_sessions_under_xvfb() {
         line_width: 1.0,
         filter: true,
         estimator: estimator.into(),
-        // As the tank ships its triangles (the paper's points keep the even grid).
-        photon_density: if estimator == "triangles" { "view" } else { "even" }.into(),
+        // As the tank ships its estimators (the paper's points keep the even grid).
+        photon_density: if estimator == "paper" { "even" } else { "view" }.into(),
         godray_photon_density: "view".into(),
         godray_method: "beams".into(),
         caustic_refinement: false,
@@ -88,7 +88,12 @@ fn viewer_sessions_under_xvfb() {
         caustic_change_reference: 1.0,
         pareto: true,
     };
-    let rows = [row("triangles", 48, 3, 1.172), row("triangles", 100, 3, 0.662), row("paper", 200, 2, 1.519)];
+    let rows = [
+        row("footprint", 48, 3, 1.172),
+        row("footprint", 150, 3, 0.662),
+        row("triangles", 100, 3, 0.905),
+        row("paper", 200, 2, 1.519),
+    ];
     std::fs::write(&sweep, serde_json::to_string(&rows).unwrap()).unwrap();
     let out = under_xvfb(&[
         "view",
@@ -105,11 +110,13 @@ fn viewer_sessions_under_xvfb() {
     ]);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.contains("presented 15 frames"), "{stdout}");
-    assert!(stdout.contains("est. error 0.66 (sweep: triangles 100² × 3²)"), "no error estimate in:\n{stdout}");
-    // The estimator step switched to the one the tank does not ship.
+    assert!(stdout.contains("est. error 0.66 (sweep: footprint 150² × 3²)"), "no error estimate in:\n{stdout}");
+    // The estimator step switched to the next after the one the tank ships, in the viewer's
+    // order (CausticEstimator::ALL's).
     let shipped = underlight::scene::load("tank").unwrap().effects.caustic_estimator;
-    let other = underlight::scene::CausticEstimator::ALL.into_iter().find(|e| *e != shipped).unwrap();
-    assert!(stdout.contains(&format!("caustic estimator: {}", other.name())), "{stdout}");
+    let all = underlight::scene::CausticEstimator::ALL;
+    let next = all[(all.iter().position(|e| *e == shipped).unwrap() + 1) % all.len()];
+    assert!(stdout.contains(&format!("caustic estimator: {}", next.name())), "{stdout}");
     // The godray-method step switched the tank's lines to the footprint ribbons, and the frame
     // after it drew them.
     assert!(stdout.contains("godray method: footprint"), "{stdout}");

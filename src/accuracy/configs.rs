@@ -247,10 +247,13 @@ mod tests {
                 (CausticEstimator::Triangles, true)
             ]
         );
-        // Empty: the scene's own, on or off.
-        let mut refined = tank.clone();
+        // Empty: the scene's own, on or off (the triangles', which the scenes shipped until
+        // the footprint points).
+        let mut triangles = tank.clone();
+        triangles.effects.caustic_estimator = CausticEstimator::Triangles;
+        let mut refined = triangles.clone();
         refined.effects.caustic_refinement = true;
-        for scene in [&tank, &refined] {
+        for scene in [&triangles, &refined] {
             let own = SweepAxes::default().scenes(scene);
             assert_eq!(own.len(), 1);
             assert_eq!(own[0].effects.caustic_refinement, scene.effects.caustic_refinement);

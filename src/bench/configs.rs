@@ -98,14 +98,17 @@ pub fn configs() -> Vec<BenchConfig> {
             paper_fps: "20",
             ..base.clone()
         },
-        // Not in the paper: the triangle estimator as the built-in scenes ship it, at about
-        // paper-800's cost (docs/accuracy.md), with paper-800's godrays.
+        // Not in the paper: the triangle estimator as the built-in scenes shipped it until the
+        // footprint points, at about paper-800's cost (docs/accuracy.md), with paper-800's
+        // godrays.
         triangles.clone(),
-        // Not in the paper: the footprint-sized points (photon differentials) on
-        // triangles-800's photons and godrays (docs/accuracy.md).
+        // Not in the paper: the footprint-sized points (photon differentials) as the built-in
+        // scenes ship them, 150² × 3² photons at about triangles-800's caustic pass, with its
+        // godrays (docs/accuracy.md, "Hats on the photons' lattice").
         BenchConfig {
             name: "footprint-points-800",
             caustic_estimator: CausticEstimator::Footprint,
+            caustic_grid: 150,
             ..triangles.clone()
         },
         // Not in the paper: triangles-800 refined at receivers' borders, a second, indirect
@@ -194,7 +197,17 @@ mod tests {
             assert_eq!(applied.effects.caustic_photon_density, PhotonSpread::Even, "{}", config.name);
             assert_eq!(applied.effects.godray_photon_density, PhotonSpread::Even, "{}", config.name);
         }
-        // The triangles' configurations measure the scene as it ships, refined-800 refined.
+        // footprint-points-800 measures the caustics as the scene ships them.
+        let footprint = c.iter().find(|c| c.name == "footprint-points-800").unwrap().apply(&tank);
+        let (shipped, measured) = (&tank.effects, &footprint.effects);
+        assert_eq!(
+            (measured.caustic_estimator, measured.caustic_grid, measured.caustic_subdivision),
+            (shipped.caustic_estimator, shipped.caustic_grid, shipped.caustic_subdivision)
+        );
+        assert_eq!(measured.caustic_photon_density, shipped.caustic_photon_density);
+        assert_eq!(measured.caustic_target_scale, shipped.caustic_target_scale);
+        // The triangles' configurations keep their photons spread for the view, refined-800
+        // refined.
         let triangles = c.iter().find(|c| c.name == "triangles-800").unwrap().apply(&tank);
         assert_eq!(triangles.effects.caustic_photon_density, PhotonSpread::View);
         assert!(!triangles.effects.caustic_refinement);

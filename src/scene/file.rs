@@ -1158,8 +1158,16 @@ mod tests {
         refused(&|s| s.medium.hg_g = 1.0, "medium.hg_g = 1 is out of range");
         refused(&|s| s.output = [0, 10], "output.width = 0 is out of range");
         refused(
-            &|s| s.effects.caustic_subdivision = crate::shader_abi::limits::MAX_SUBDIVISION,
+            &|s| {
+                s.effects.caustic_estimator = CausticEstimator::Triangles;
+                s.effects.caustic_subdivision = crate::shader_abi::limits::MAX_SUBDIVISION;
+            },
             "is out of range for effects.caustic_estimator = \"triangles\"",
+        );
+        // The shipped footprint points need a neighbour in their coarse cell.
+        refused(
+            &|s| s.effects.caustic_subdivision = 1,
+            "is out of range for effects.caustic_estimator = \"footprint\"",
         );
         refused(&|s| s.effects.point_size_max = f32::INFINITY, "effects.point_size_max = inf");
         refused(

@@ -123,13 +123,13 @@ const MEDIUM: MediumFile = MediumFile { gamma: Some(Gamma::Uniform(0.13)), scatt
 /// The comment on the built-in scenes' `[effects]`: toml's serializer writes no comments, so it
 /// goes in under the table's header.
 const EFFECTS_COMMENT: &str = "\
-# Warped-cell triangles at about the GPU cost of the paper's 200² x 2² points, which they
-# beat on every built-in scene (docs/accuracy.md); caustic_estimator = \"paper\" restores those.
-# Their photons and the godray beams are spread as the view needs them;
+# Footprint-sized points at about the GPU cost of the warped-cell triangles at 100² x 3², which
+# they beat on every built-in scene (docs/accuracy.md, \"Hats on the photons' lattice\");
+# caustic_estimator = \"triangles\" with caustic_grid = 100 restores those, \"paper\" the paper's
+# points. Their photons and the godray beams are spread as the view needs them;
 # caustic_photon_density and godray_photon_density = \"even\" are the paper's even grids.
-# The caustics are drawn at the output's resolution (caustic_target_scale = 1): the triangles'
-# cost does not grow with their target, and a smaller one blurs the caustic network and
-# leaves it soft at every edge (docs/accuracy.md, \"Edges\").
+# The caustics are drawn at the output's resolution (caustic_target_scale = 1): a smaller
+# target blurs the caustic network and leaves it soft at every edge (docs/accuracy.md, \"Edges\").
 ";
 
 struct Object {
@@ -189,7 +189,7 @@ impl SceneSpec {
     }
 
     /// The scene file: the OBJ as the only object, the paper's light and medium, and the
-    /// triangle caustic estimator.
+    /// footprint-sized caustic points.
     fn toml(self) -> String {
         let header = self.header("#");
         let file = SceneFile {
@@ -212,8 +212,8 @@ impl SceneSpec {
             water: self.water,
             medium: Some(MEDIUM),
             effects: Some(EffectsFile {
-                caustic_estimator: Some(CausticEstimatorFile::Triangles),
-                caustic_grid: Some(100),
+                caustic_estimator: Some(CausticEstimatorFile::Footprint),
+                caustic_grid: Some(150),
                 caustic_subdivision: Some(3),
                 caustic_target_scale: Some(1.0),
                 caustic_photon_density: Some(PhotonSpreadFile::View),
