@@ -7,8 +7,9 @@
 // photon's hat (footprint_hat_share, shader_math.glsl), and the shares of neighbouring
 // photons sum to 1 however their lattice lies on the target.
 
-// The point's vertex carries only what varies per photon (4 components besides its position
-// and size): its depth is the point's, and every photon counts 1 in alpha.
+// The paper's point carries only its irradiance besides its position and size: its depth is
+// the point's, and every such photon counts 1 in alpha. A footprint point's alpha is the
+// pixel's share of its hat.
 layout(location = 0) flat in vec3 g_irradiance;
 #ifdef FOOTPRINT_POINTS
 #include "../shared/shader_math.glsl"
