@@ -368,6 +368,24 @@ fn photons_of_the_exchanged_warp_agree_with_the_cpu_twin() {
     );
 }
 
+#[test]
+fn footprint_points_take_the_survey_s_warp_order_on_the_square_grid() {
+    // The storage's shipped footprint points: the survey exchanges the warp's u and v for them
+    // as for the triangles' mesh (their lattice cells are the mesh's), but leaves the coarse
+    // grid square, which is what their geometry shader casts (docs/accuracy.md, "The
+    // footprint points' warp order"). Photon for photon against the twin.
+    let mut scene = underlight::scene::load("storage").unwrap();
+    assert_eq!(scene.effects.caustic_estimator, CausticEstimator::Footprint);
+    scene.output = [160, 100];
+    scene.effects.caustic_grid = 32;
+    scene.effects.caustic_subdivision = 3;
+    compare_scene_photons_with_twin(
+        &scene,
+        1.0,
+        TwinChecks { second_maps: true, shaped_grid: false, exchanged: Some(true) },
+    );
+}
+
 /// What `compare_scene_photons_with_twin` requires of its scene beyond the photons' agreement.
 struct TwinChecks {
     /// Some photons land through the second, steeper light maps.
