@@ -128,6 +128,37 @@ pub fn lit_holes(gpu: &HdrImage, reference: &HdrImage) -> Result<f64> {
     Ok(if region == 0 { 0.0 } else { holes as f64 / region as f64 })
 }
 
+/// Half the side of the neighbourhood `light_in_shadow` judges dark by: 5×5 pixels.
+pub const SHADOW_RADIUS: i64 = 2;
+
+/// Light in the reference's shadows: the share of the GPU buffer's light (channel 0) that
+/// lies where the reference holds nothing in the pixel and in all its 5×5 neighbourhood. A
+/// shadow's interior, not its border (the pixels beside the edge may hold some of the lit
+/// side's light in either), nor a lone empty pixel of a noisy reference. The footprint points'
+/// hats, a photon's span wide, ran into the shadows of receivers nearer the light before
+/// they were held to where a photon could land (docs/accuracy.md, "Hats held out of the
+/// shadows").
+pub fn light_in_shadow(gpu: &HdrImage, reference: &HdrImage) -> Result<f64> {
+    if (gpu.width, gpu.height) != (reference.width, reference.height) {
+        bail!("size mismatch: {}×{} vs {}×{}", gpu.width, gpu.height, reference.width, reference.height);
+    }
+    let (w, h) = (gpu.width as i64, gpu.height as i64);
+    let dark =
+        |x: i64, y: i64| !(0..w).contains(&x) || !(0..h).contains(&y) || reference.at(x as u32, y as u32)[0] <= 0.0;
+    let r = SHADOW_RADIUS;
+    let (mut total, mut in_shadow) = (0.0f64, 0.0f64);
+    for y in 0..h {
+        for x in 0..w {
+            let light = gpu.at(x as u32, y as u32)[0] as f64;
+            total += light;
+            if light != 0.0 && (-r..=r).all(|dy| (-r..=r).all(|dx| dark(x + dx, y + dy))) {
+                in_shadow += light;
+            }
+        }
+    }
+    Ok(if total > 0.0 { in_shadow / total } else { 0.0 })
+}
+
 /// The radiance (W/(m²·sr), RGB) behind the compose pass's 8-bit sRGB output: the sRGB
 /// encoding and the tonemap `1 − e^(−exposure·L)` undone. A channel at 255 is read as 254.5,
 /// the brightest value the byte can stand for without being clipped.
@@ -363,9 +394,9 @@ mod tests {
         }
     }
 
-    #[test]
-    fn lit_holes_count_zero_pixels_inside_what_the_reference_lights() {
-        let lit = |w: u32, h: u32, f: &dyn Fn(u32, u32) -> f32| HdrImage {
+    /// A `w`×`h` image whose pixel (x, y) holds f(x, y) in every channel.
+    fn grey_image(w: u32, h: u32, f: &dyn Fn(u32, u32) -> f32) -> HdrImage {
+        HdrImage {
             width: w,
             height: h,
             pixels: (0..w * h)
@@ -374,7 +405,29 @@ mod tests {
                     [v, v, v, 1.0]
                 })
                 .collect(),
-        };
+        }
+    }
+
+    #[test]
+    fn light_in_shadow_counts_the_light_inside_what_the_reference_leaves_dark() {
+        let image = grey_image;
+        // The reference lights the left half (x < 6) but for one empty pixel inside it; the GPU
+        // lights every pixel with 1.
+        let reference = image(12, 8, &|x, y| if x < 6 && (x, y) != (2, 4) { 1.0 } else { 0.0 });
+        let gpu = image(12, 8, &|_, _| 1.0);
+        // Dark with all of its 5×5 neighbourhood: x in 8..=11 (x = 6 and 7 see the lit half),
+        // every row; the lone empty pixel is not.
+        let share = light_in_shadow(&gpu, &reference).unwrap();
+        assert!((share - 4.0 * 8.0 / 96.0).abs() < 1e-12, "{share}");
+        // Light only where the reference is lit reads zero.
+        let lit_only = image(12, 8, &|x, _| if x < 6 { 3.0 } else { 0.0 });
+        assert_eq!(light_in_shadow(&lit_only, &reference).unwrap(), 0.0);
+        assert!(light_in_shadow(&image(4, 4, &|_, _| 1.0), &reference).is_err());
+    }
+
+    #[test]
+    fn lit_holes_count_zero_pixels_inside_what_the_reference_lights() {
+        let lit = grey_image;
         // The reference lights the left half; the GPU the same but for one pixel inside it and
         // all of the right half.
         let reference = lit(10, 10, &|x, _| if x < 5 { 1.0 } else { 0.0 });

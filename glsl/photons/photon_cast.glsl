@@ -130,11 +130,17 @@ vec3 map_normal(ivec2 texel, bool steep) {
 // texel's footprint is there: at a 10° sun a floor texel is 5.8 texels long, and the
 // iteration can only place the hit somewhere inside it. (Measuring the plain distance to
 // the stored point rejected most correct hits below a 15° sun.)
-bool converged(vec3 hit, vec3 receiver, vec3 receiver_normal, vec3 light_to_hit, float dist, bool steep) {
+// The width of a map texel's beam at world point p (`steep`: the second maps'): it grows with
+// distance from a point light, and under the water it is the refracted beam's.
+float map_texel_size(vec3 p, bool steep) {
     float stretch = steep ? frame.steep_texel_stretch : frame.refracted_texel_stretch;
-    float texel_size = 2.0 * max(frame.light_half_extent.x, frame.light_half_extent.y) / frame.light_map_size
-                     * (frame.light_is_point > 0.0 ? length(hit - frame.light_position) : 1.0)
-                     * (frame.light_is_point == 0.0 && hit.y < frame.water_level ? stretch : 1.0);
+    return 2.0 * max(frame.light_half_extent.x, frame.light_half_extent.y) / frame.light_map_size
+         * (frame.light_is_point > 0.0 ? length(p - frame.light_position) : 1.0)
+         * (frame.light_is_point == 0.0 && p.y < frame.water_level ? stretch : 1.0);
+}
+
+bool converged(vec3 hit, vec3 receiver, vec3 receiver_normal, vec3 light_to_hit, float dist, bool steep) {
+    float texel_size = map_texel_size(hit, steep);
     float across_allowed = max(3.0 * texel_size, 0.05 * dist);
     vec3 off = hit - receiver;
     float len_n = length(receiver_normal);
@@ -145,6 +151,56 @@ bool converged(vec3 hit, vec3 receiver, vec3 receiver_normal, vec3 light_to_hit,
     // 0.01 bounds the stretch at 100 (a receiver lit within 0.6° of edge-on).
     float facing = max(abs(dot(n, light_to_hit)), 0.01);
     return across <= across_allowed && along <= max(3.0 * texel_size / facing, 0.05 * dist);
+}
+
+// The most the waves tilt the refracted light from flat water's, rad: the surface's normal
+// tilts by up to atan(water_slope_bound), and refraction turns the ray by about (1 − 1/ior)
+// of that (the share at normal incidence). A bound: 0.10 for the port's waves, whose typical
+// tilt is about 3° (frame::uniforms::STEEP_MAP_HORIZONTAL).
+float wave_deviation() {
+    WaterParams w = frame_water();
+    return (1.0 - 1.0 / w.ior) * atan(water_slope_bound(w));
+}
+
+// Whether a photon could land at world point p: p lies on the plane of a receiver that the
+// first light maps store near p's texel. No photon's light belongs where this fails: in the
+// shadow of a receiver nearer the light (a shelf over a wall, a pillar beside the floor), or
+// on a face the maps never see. The footprint points' hats, which reach a whole span past
+// their photon, are held to it (photon_visibility.frag), so that a hat beside a shadow's edge
+// stops near it.
+//
+// The maps hold what flat water's refracted light meets; the waves tilt each ray by up to
+// wave_deviation(), so a shadow's edge wanders by that angle times the way from the edge's
+// caster to p (under the water, at most the way from the surface). So besides p's own texel
+// the test reads the four that far from it along the map's axes (at least the next ones, for
+// the texels' own steps), and p lies on a receiver's plane within the allowance a photon's
+// hit has across its receiver (converged). The second, steeper maps are not read: the light
+// they place lies within that reach of the first maps' (they bend by about the waves' tilt),
+// and each texel read costs: the test as it stands costs 25 ms of the tank's caustic pass at
+// 800×800 on lavapipe, of which the four reads around p are half (docs/performance.md).
+bool light_could_land(vec3 p) {
+    ivec2 texel;
+    if (!light_texel(p, false, texel)) return false;
+    vec3 direction = light_map_direction(p, false);
+    float below = max(frame.water_level - p.y, 0.0) / max(-direction.y, 1e-3);
+    float texel_size = map_texel_size(p, false);
+    float across_allowed = max(3.0 * texel_size, 0.05 * below);
+    vec4 caster = map_receiver(texel, false);
+    float way = caster.w > 0.0 ? min(below, length(p - caster.xyz)) : below;
+    int reach = int(clamp(round(wave_deviation() * way / texel_size), 1.0, frame.light_map_size));
+    ivec2 last = ivec2(frame.light_map_size) - 1;
+    const ivec2 around[5] = ivec2[5](ivec2(0), ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1));
+    bool lands = false;
+    for (int k = 0; k < 5; ++k) {
+        ivec2 t = clamp(texel + reach * around[k], ivec2(0), last);
+        vec4 receiver = k == 0 ? caster : map_receiver(t, false);
+        vec3 n = map_normal(t, false);
+        float len_n = length(n);
+        float across = len_n > 0.5 ? abs(dot(p - receiver.xyz, n / len_n)) : length(p - receiver.xyz);
+        lands = receiver.w > 0.0 && across <= across_allowed;
+        if (lands) break;
+    }
+    return lands;
 }
 
 // Moves the iteration's estimate `hit` (`dist` along the refracted ray from `ps`) onto the

@@ -19,4 +19,14 @@ float scene_view_depth(vec2 uv) {
     ivec2 texel = clamp(ivec2(floor(uv * vec2(size))), ivec2(0), size - 1);
     return linear_view_depth(texelFetch(scene_depth, texel, 0).r);
 }
+
+// The world point the scene shows at `uv`: the texel scene_view_depth reads, unprojected at
+// that texel's centre.
+vec3 scene_world_point(vec2 uv) {
+    ivec2 size = textureSize(scene_depth, 0);
+    ivec2 texel = clamp(ivec2(floor(uv * vec2(size))), ivec2(0), size - 1);
+    vec2 centre = (vec2(texel) + 0.5) / vec2(size);
+    vec4 p = frame.camera_inv_view_proj * vec4(centre * 2.0 - 1.0, texelFetch(scene_depth, texel, 0).r, 1.0);
+    return p.xyz / p.w;
+}
 #endif

@@ -308,9 +308,12 @@ impl CausticsPass {
                 sets.write_at(frame, vec![(binding.0 as usize, resource)]);
             }
         }
-        let visibility = draws_points
-            .then(|| VisibilityDepth::new(device, VisibilityTarget::Caustics, &target, &set_layouts))
-            .transpose()?;
+        let which = match estimator {
+            CausticEstimator::Footprint => VisibilityTarget::LitCaustics,
+            _ => VisibilityTarget::Caustics,
+        };
+        let visibility =
+            draws_points.then(|| VisibilityDepth::new(device, which, &target, &set_layouts)).transpose()?;
         Ok(Self {
             path,
             estimator,

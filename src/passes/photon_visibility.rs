@@ -7,7 +7,9 @@
 //! have at each pixel; the splats then test against it without writing it. The test runs
 //! before their fragment shader, so fragments behind the scene cost no shading and no read of
 //! the scene's depth. The compute path tests in its shader, and the caustic triangles, which
-//! must lie on the surface their pixel shows (in front of it too), test in theirs.
+//! must lie on the surface their pixel shows (in front of it too), test in theirs. For the
+//! footprint points the draw also writes the near plane where no photon could land (in a
+//! shadow), which holds their hats, a whole photon span wide, to the lit side of its edge.
 
 use crate::error::Result;
 use crate::shaders;
@@ -23,6 +25,9 @@ use std::sync::Arc;
 pub enum VisibilityTarget {
     Caustics = 0,
     Godrays = 1,
+    /// The footprint points' caustics: also held to where a photon could land, out of the
+    /// shadows their hats would reach into (`light_could_land`, glsl/photons/photon_cast.glsl).
+    LitCaustics = 2,
 }
 
 /// The draw that fills a photon target's depth attachment (`ColorTarget::with_optional_depth`).
@@ -42,6 +47,7 @@ impl VisibilityDepth {
         let name = match which {
             VisibilityTarget::Caustics => "caustics visibility",
             VisibilityTarget::Godrays => "godrays visibility",
+            VisibilityTarget::LitCaustics => "footprint caustics visibility",
         };
         let desc = GraphicsPipelineDesc {
             blend: Blend::NoColor,
