@@ -234,6 +234,27 @@ pub fn water_slope_bound(w: &WaterParams) -> f32 {
         + w.noise_amplitude.abs() / w.noise_scale * WATER_NOISE_SLOPE
 }
 
+/// GLSL `water_deviation_bound`: the most the waves turn a ray falling along unit direction `d`
+/// away from its refraction in flat water, rad, from the normals tilted by the slope bound
+/// towards, away from and across the ray's horizontal direction; a right angle where the
+/// waves are steep enough to meet the ray edge-on.
+pub fn water_deviation_bound(w: &WaterParams, d: Vec3) -> f32 {
+    let tilt = water_slope_bound(w).atan();
+    if tilt >= (-d.y).atan2(Vec2::new(d.x, d.z).length()) {
+        return std::f32::consts::FRAC_PI_2;
+    }
+    let eta = 1.0 / w.ior;
+    let flat_refracted = d.refract(Vec3::Y, eta);
+    let h = if d.x * d.x + d.z * d.z > 1e-12 { Vec2::new(d.x, d.z).normalize() } else { Vec2::X };
+    let towards = Vec3::new(h.x, 0.0, h.y);
+    let across = Vec3::new(-h.y, 0.0, h.x);
+    [towards, -towards, across, -across]
+        .into_iter()
+        .map(|t| d.refract(tilt.cos() * Vec3::Y + tilt.sin() * t, eta).normalize())
+        .map(|r| r.dot(flat_refracted).clamp(-1.0, 1.0).acos())
+        .fold(0.0, f32::max)
+}
+
 /// Whether Newton's search alone finds the water crossing of every ray along unit direction
 /// `d` that starts above the waves: the ray falls more than twice as steeply as the surface
 /// can rise along it (`water_intersect`'s choice per ray), with 1 % to spare, so that the
@@ -1160,6 +1181,58 @@ mod tests {
         let p = o + t * d;
         let h = water_height_grad(&w, &noise, p.xz(), 2.0).x;
         assert!((p.y - (w.level + h)).abs() < 1e-4, "{} vs {}", p.y, h);
+    }
+
+    #[test]
+    fn the_deviation_bound_is_the_largest_turn_of_any_tilt() {
+        // Normals tilted by the slope bound at every azimuth, for suns from overhead to 63° off
+        // it and slopes up to 0.44 (24°, short of meeting the lowest sun's rays edge-on): none
+        // turns the refracted ray further than the bound's four tilts do, and one of them
+        // reaches it (within the sampling's step). Waves that steep under that sun (slope 1)
+        // read a right angle. The port's waves under the built-in scenes' sun: 0.122 rad, where
+        // (1 − 1/ior)·atan(slope) reads 0.103.
+        let waves = |amplitude: f32, wavelength: f32| WaterParams {
+            amplitude,
+            wavelength,
+            noise_amplitude: 0.0,
+            ..water(WaterModel::CircularCosine)
+        };
+        for d in [
+            Vec3::new(0.0, -1.0, 0.0),
+            Vec3::new(0.25, -1.0, 0.15),
+            Vec3::new(1.0, -1.0, 0.0),
+            Vec3::new(2.0, -1.0, 0.3),
+        ] {
+            let d = d.normalize();
+            let flat_refracted = d.refract(Vec3::Y, 1.0 / 1.333);
+            for (amplitude, wavelength) in [(0.01, 2.0), (0.05, 1.0), (0.07, 1.0)] {
+                let w = waves(amplitude, wavelength);
+                let bound = water_deviation_bound(&w, d);
+                let tilt = water_slope_bound(&w).atan();
+                let mut most = 0.0f32;
+                for step in 0..720 {
+                    let azimuth = step as f32 / 720.0 * std::f32::consts::TAU;
+                    let n = tilt.cos() * Vec3::Y + tilt.sin() * Vec3::new(azimuth.cos(), 0.0, azimuth.sin());
+                    most = most.max(d.refract(n, 1.0 / 1.333).normalize().dot(flat_refracted).clamp(-1.0, 1.0).acos());
+                }
+                assert!(
+                    most <= bound + 1e-4 && most >= bound - 1e-3,
+                    "d {d} slope {}: bound {bound}, turned {most}",
+                    tilt.tan()
+                );
+            }
+        }
+        let port = WaterParams {
+            amplitude: 0.05,
+            wavelength: 2.0,
+            noise_amplitude: 0.08,
+            noise_scale: 8.0,
+            ..water(WaterModel::AxisCosineNoise)
+        };
+        let bound = water_deviation_bound(&port, Vec3::new(0.25, -1.0, 0.15).normalize());
+        assert!((bound - 0.122).abs() < 0.002, "{bound}");
+        let low_sun = Vec3::new(2.0, -1.0, 0.3).normalize();
+        assert_eq!(water_deviation_bound(&waves(0.16, 1.0), low_sun), std::f32::consts::FRAC_PI_2);
     }
 
     #[test]

@@ -153,15 +153,6 @@ bool converged(vec3 hit, vec3 receiver, vec3 receiver_normal, vec3 light_to_hit,
     return across <= across_allowed && along <= max(3.0 * texel_size / facing, 0.05 * dist);
 }
 
-// The most the waves tilt the refracted light from flat water's, rad: the surface's normal
-// tilts by up to atan(water_slope_bound), and refraction turns the ray by about (1 − 1/ior)
-// of that (the share at normal incidence). A bound: 0.10 for the port's waves, whose typical
-// tilt is about 3° (frame::uniforms::STEEP_MAP_HORIZONTAL).
-float wave_deviation() {
-    WaterParams w = frame_water();
-    return (1.0 - 1.0 / w.ior) * atan(water_slope_bound(w));
-}
-
 // Whether a photon could land at world point p: p lies on the plane of a receiver that the
 // first light maps store near p's texel. No photon's light belongs where this fails: in the
 // shadow of a receiver nearer the light (a shelf over a wall, a pillar beside the floor), or
@@ -169,8 +160,8 @@ float wave_deviation() {
 // their photon, are held to it (photon_visibility.frag), so that a hat beside a shadow's edge
 // stops near it.
 //
-// The maps hold what flat water's refracted light meets; the waves tilt each ray by up to
-// wave_deviation(), so a shadow's edge wanders by that angle times the way from the edge's
+// The maps hold what flat water's refracted light meets; the waves turn each ray by up to
+// water_deviation_bound, so a shadow's edge wanders by that angle times the way from the edge's
 // caster to p (under the water, at most the way from the surface). So besides p's own texel
 // the test reads the four that far from it along the map's axes (at least the next ones, for
 // the texels' own steps), and p lies on a receiver's plane within the allowance a photon's
@@ -187,7 +178,10 @@ bool light_could_land(vec3 p) {
     float across_allowed = max(3.0 * texel_size, 0.05 * below);
     vec4 caster = map_receiver(texel, false);
     float way = caster.w > 0.0 ? min(below, length(p - caster.xyz)) : below;
-    int reach = int(clamp(round(wave_deviation() * way / texel_size), 1.0, frame.light_map_size));
+    // The light's direction before the water: a point light's towards p, which it only nears.
+    vec3 falling = frame.light_is_point > 0.0 ? normalize(p - frame.light_position) : frame.light_axis;
+    float deviation = water_deviation_bound(frame_water(), falling);
+    int reach = int(clamp(round(deviation * way / texel_size), 1.0, frame.light_map_size));
     ivec2 last = ivec2(frame.light_map_size) - 1;
     const ivec2 around[5] = ivec2[5](ivec2(0), ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1));
     bool lands = false;

@@ -154,6 +154,30 @@ float water_slope_bound(WaterParams w) {
     return abs(w.amplitude) * 2.0 * PI / w.wavelength + abs(w.noise_amplitude) / w.noise_scale * WATER_NOISE_SLOPE;
 }
 
+// The most the waves turn a ray falling along unit direction d away from its refraction in
+// flat water, rad (Rust twin: shader_math::water_deviation_bound): the surface's normal tilts
+// by up to atan(water_slope_bound), and of the normals tilted that far the ray turns most under
+// those tilted towards its own horizontal direction, away from it or across it (the twin's
+// test samples every azimuth). About (1 − 1/ior) of the tilt under a high sun, up to three
+// times that under a low one; a right angle where the waves are steep enough to meet the ray
+// edge-on (then a ray may enter along the surface).
+float water_deviation_bound(WaterParams w, vec3 d) {
+    float tilt = atan(water_slope_bound(w));
+    if (tilt >= atan(-d.y, length(d.xz))) return 0.5 * PI;
+    float eta = 1.0 / w.ior;
+    vec3 up = vec3(0.0, 1.0, 0.0);
+    vec3 flat_refracted = refract(d, up, eta);
+    vec2 h = dot(d.xz, d.xz) > 1e-12 ? normalize(d.xz) : vec2(1.0, 0.0);
+    vec3 towards = vec3(h.x, 0.0, h.y), across = vec3(-h.y, 0.0, h.x);
+    vec3 tilted[4] = vec3[4](towards, -towards, across, -across);
+    float most = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        vec3 r = normalize(refract(d, cos(tilt) * up + sin(tilt) * tilted[k], eta));
+        most = max(most, acos(clamp(dot(r, flat_refracted), -1.0, 1.0)));
+    }
+    return most;
+}
+
 // The search's stages, in the order a ray takes them: the slab's top, its floor, the march's
 // steps, the refinement's steps; or, for a ray that falls steeply enough, Newton's steps.
 const int WATER_AT_TOP = 0;
