@@ -306,6 +306,39 @@ fn default_settings_error_on_the_tank() {
 }
 
 #[test]
+fn the_port_and_the_storage_cover_what_the_reference_lights_at_their_own_sizes() {
+    // Issue 16's gaps at the scenes' own sizes (1440×850), as shipped; the tank's are in
+    // default_settings_error_on_the_tank. The gap fraction counts a hard shadow's border and
+    // the reference's own noise, which leave the reference dark too (the test's 8M-photon
+    // references read about 0.45 and 0.36, the 64M-photon ones 0.150 and 0.115), so it is held
+    // to the reference's own. The holes (the pixels the reference lights with all their
+    // neighbours that the GPU leaves at zero) are the figure that tells: against 8M-photon
+    // references from `underlight reference` the footprint points read 0.08 / 0.04 %, the
+    // triangles that shipped before 0.41 % on the storage (1.67 % against 64M photons) and the
+    // paper's points 6.5 %; the bound catches a return to either. (Light in the reference's
+    // shadows is not asserted here: against 8M photons the port's sparse grazed faces read as
+    // shadow, 0.43 % with the hats held out of the shadows and without.)
+    let scenes: Vec<(String, Scene)> = ["port", "storage"]
+        .iter()
+        .map(|name| {
+            let scene = underlight::scene::load(name).unwrap();
+            (format!("{name} {}×{} as shipped", scene.output[0], scene.output[1]), scene)
+        })
+        .collect();
+    let figures = caustic_figures(&scenes);
+    for ((label, _), f) in scenes.iter().zip(&figures) {
+        assert!(f.holes < 0.0025, "{label}: {:.2} % of the pixels the reference lights hold nothing", 100.0 * f.holes);
+        assert!(
+            f.gaps <= f.reference_gaps + 0.005,
+            "{label}: gap fraction {:.4} against the reference's {:.4}",
+            f.gaps,
+            f.reference_gaps
+        );
+        assert!(f.flux.abs() < 0.03, "{label}: caustic flux error {:+.3}", f.flux);
+    }
+}
+
+#[test]
 fn sweep_writes_csv_table_and_pareto_plot() {
     let out = cache_dir("sweep");
     let status = Command::new(env!("CARGO_BIN_EXE_underlight"))
