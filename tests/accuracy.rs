@@ -313,7 +313,7 @@ fn the_port_and_the_storage_cover_what_the_reference_lights_at_their_own_sizes()
     // references read about 0.45 and 0.36, the 64M-photon ones 0.150 and 0.115), so it is held
     // to the reference's own. The holes (the pixels the reference lights with all their
     // neighbours that the GPU leaves at zero) are the figure that tells: against 8M-photon
-    // references from `underlight reference` the footprint points read 0.08 / 0.04 %, the
+    // references from `underlight reference` the footprint points read 0.08 / 0.03 %, the
     // triangles that shipped before 0.41 % on the storage (1.67 % against 64M photons) and the
     // paper's points 6.5 %; the bound catches a return to either. (Light in the reference's
     // shadows is not asserted here: against 8M photons the port's sparse grazed faces read as
