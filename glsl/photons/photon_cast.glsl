@@ -123,13 +123,6 @@ vec3 map_normal(ivec2 texel, bool steep) {
     return texelFetch(light_normals, ivec3(texel, steep ? 1 : 0), 0).xyz;
 }
 
-// Converged when the estimate lies on the receiver the map stores at its texel: within a
-// few map texels of that receiver's plane (a texel's world size grows with distance for a
-// point light), or 5 % of the distance travelled. Within the plane the allowance is
-// stretched by 1/cos of the light's incidence on the receiver, because that is how long a
-// texel's footprint is there: at a 10° sun a floor texel is 5.8 texels long, and the
-// iteration can only place the hit somewhere inside it. (Measuring the plain distance to
-// the stored point rejected most correct hits below a 15° sun.)
 // The width of a map texel's beam at world point p (`steep`: the second maps'): it grows with
 // distance from a point light, and under the water it is the refracted beam's.
 float map_texel_size(vec3 p, bool steep) {
@@ -139,14 +132,36 @@ float map_texel_size(vec3 p, bool steep) {
          * (frame.light_is_point == 0.0 && p.y < frame.water_level ? stretch : 1.0);
 }
 
+// How far a photon's hit may lie off its receiver's plane: a few map texels (`texel_size`,
+// map_texel_size) or 5 % of the distance `dist` it travelled, whichever is more.
+float across_allowance(float texel_size, float dist) {
+    return max(3.0 * texel_size, 0.05 * dist);
+}
+
+// How far point p lies off the plane of the receiver the maps store at point `receiver` with
+// normal `receiver_normal` (as stored, not unit); where they store no normal, the plain
+// distance to the point.
+float off_receiver(vec3 p, vec3 receiver, vec3 receiver_normal) {
+    vec3 off = p - receiver;
+    float len_n = length(receiver_normal);
+    return len_n > 0.5 ? abs(dot(off, receiver_normal / len_n)) : length(off);
+}
+
+// Converged when the estimate lies on the receiver the map stores at its texel: within a
+// few map texels of that receiver's plane (a texel's world size grows with distance for a
+// point light), or 5 % of the distance travelled. Within the plane the allowance is
+// stretched by 1/cos of the light's incidence on the receiver, because that is how long a
+// texel's footprint is there: at a 10° sun a floor texel is 5.8 texels long, and the
+// iteration can only place the hit somewhere inside it. (Measuring the plain distance to
+// the stored point rejected most correct hits below a 15° sun.)
 bool converged(vec3 hit, vec3 receiver, vec3 receiver_normal, vec3 light_to_hit, float dist, bool steep) {
     float texel_size = map_texel_size(hit, steep);
-    float across_allowed = max(3.0 * texel_size, 0.05 * dist);
-    vec3 off = hit - receiver;
+    float across_allowed = across_allowance(texel_size, dist);
+    float across = off_receiver(hit, receiver, receiver_normal);
     float len_n = length(receiver_normal);
-    if (!(len_n > 0.5)) return length(off) <= across_allowed; // no normal stored: plain distance
+    if (!(len_n > 0.5)) return across <= across_allowed; // no normal stored: plain distance
     vec3 n = receiver_normal / len_n;
-    float across = abs(dot(off, n));
+    vec3 off = hit - receiver;
     float along = length(off - dot(off, n) * n);
     // 0.01 bounds the stretch at 100 (a receiver lit within 0.6° of edge-on).
     float facing = max(abs(dot(n, light_to_hit)), 0.01);
@@ -165,7 +180,7 @@ bool converged(vec3 hit, vec3 receiver, vec3 receiver_normal, vec3 light_to_hit,
 // caster to p (under the water, at most the way from the surface). So besides p's own texel
 // the test reads the four that far from it along the map's axes (at least the next ones, for
 // the texels' own steps), and p lies on a receiver's plane within the allowance a photon's
-// hit has across its receiver (converged). The second, steeper maps are not read: the light
+// hit has across its receiver (across_allowance). The second, steeper maps are not read: the light
 // they place lies within that reach of the first maps' (they bend by about the waves' tilt),
 // and each texel read costs: the test as it stands costs 25 ms of the tank's caustic pass at
 // 800×800 on lavapipe, of which the four reads around p are half (docs/performance.md).
@@ -175,7 +190,7 @@ bool light_could_land(vec3 p) {
     vec3 direction = light_map_direction(p, false);
     float below = max(frame.water_level - p.y, 0.0) / max(-direction.y, 1e-3);
     float texel_size = map_texel_size(p, false);
-    float across_allowed = max(3.0 * texel_size, 0.05 * below);
+    float across_allowed = across_allowance(texel_size, below);
     vec4 caster = map_receiver(texel, false);
     float way = caster.w > 0.0 ? min(below, length(p - caster.xyz)) : below;
     // The light's direction before the water: a point light's towards p, which it only nears.
@@ -188,10 +203,7 @@ bool light_could_land(vec3 p) {
     for (int k = 0; k < 5; ++k) {
         ivec2 t = clamp(texel + reach * around[k], ivec2(0), last);
         vec4 receiver = k == 0 ? caster : map_receiver(t, false);
-        vec3 n = map_normal(t, false);
-        float len_n = length(n);
-        float across = len_n > 0.5 ? abs(dot(p - receiver.xyz, n / len_n)) : length(p - receiver.xyz);
-        lands = receiver.w > 0.0 && across <= across_allowed;
+        lands = receiver.w > 0.0 && off_receiver(p, receiver.xyz, map_normal(t, false)) <= across_allowed;
         if (lands) break;
     }
     return lands;
