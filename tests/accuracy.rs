@@ -298,10 +298,10 @@ fn default_settings_error_on_the_tank() {
     assert!(holes < 0.02, "{:.1} % of the pixels the reference lights hold nothing", 100.0 * holes);
     // Light inside the reference's shadows: the footprint points' hats, a photon's span wide,
     // ran tens of pixels into the shadows beside lit receivers (under the shelf, beside the
-    // pillar) and put 0.0027 of the light there (against `underlight reference`'s 8M photons,
-    // whose seed differs from this test's); held to where a photon could land
-    // (docs/accuracy.md, "Hats held out of the shadows"), 0.00036 in this test. (Against a
-    // 64M-photon reference: 0.0026 and 0.0002; the triangles 0.0001.)
+    // pillar) and put 0.0028 of the light there in this test (the plain visibility test, as
+    // before the shadow test); held to where a photon could land (docs/accuracy.md, "Hats held
+    // out of the shadows"), 0.00036. (Against a 64M-photon reference: 0.0026 and 0.0002; the
+    // triangles 0.0001.)
     assert!(shadow_light < 0.001, "{:.2} % of the caustic light lies in the reference's shadows", 100.0 * shadow_light);
 }
 
