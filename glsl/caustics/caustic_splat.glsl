@@ -102,6 +102,45 @@ bool light_step_edge(vec3 hit, vec3 n, vec3 surface, vec3 direction, vec2 window
     return true;
 }
 
+// The edge of a landed photon's cell towards a grid neighbour that another invocation casts
+// (the footprint points' neighbour across their coarse cell's border), without that
+// neighbour's search of the light's maps: its ray from the light enters the light's window at
+// `window_uv`, crosses the water at the height where the photon's ray entered it (`surface`),
+// is refracted by the water's own normal there, and meets the photon's receiver plane (unit
+// normal n through `hit`). `side` is −1 for the neighbour before the photon along the axis,
+// +1 for the one after; the edge points along the axis as footprint_edges' spans do.
+// Unlike light_step_edge it refracts the neighbour by its own normal, so the edge follows
+// the waves' focusing, the spans that make a caustic. The points took the mirror of the span
+// on the other side before, the cell's edge only where the waves do not focus: at 3 × 3, 8
+// of every 9 photons lie on a border, and their hats, too short on one side and too long on
+// the other, drew the coarse grid into the caustic (docs/accuracy.md, "Neighbours across the
+// coarse cell's border"). The height of the photon's entry rather than the neighbour's own
+// (one Newton step more) moved no figure in the third decimal. False where the ray misses
+// the water, meets the back of a wave or is totally reflected, or runs along the plane.
+bool neighbour_edge_on_plane(vec3 hit, vec3 n, vec3 surface, vec2 window_uv, float side, out vec3 edge) {
+    edge = vec3(0.0);
+    vec2 ndc = (frame.photon_window_min + window_uv * frame.photon_window_size) * 2.0 - 1.0;
+    vec4 a = frame.light_inv_view_proj * vec4(ndc, 0.0, 1.0);
+    vec4 b = frame.light_inv_view_proj * vec4(ndc, 1.0, 1.0);
+    vec3 o = a.xyz / a.w;
+    vec3 d = normalize(b.xyz / b.w - o);
+    if (!(d.y < -1e-3)) return false;
+    WaterParams w = frame_water();
+    vec3 phase = frame_water_phase();
+    vec3 entry = o + d * ((surface.y - o.y) / d.y);
+    vec3 hg = water_height_grad(w, noise_tex, entry.xz, phase);
+    vec3 water_normal = water_normal_from_grad(hg.yz);
+    vec3 refracted = refract(d, water_normal, 1.0 / w.ior);
+    if (dot(-d, water_normal) <= 0.0 || dot(refracted, refracted) == 0.0) return false;
+    refracted = normalize(refracted);
+    float along = dot(refracted, n);
+    if (abs(along) <= 1e-3) return false;
+    float to_plane = dot(hit - entry, n) / along;
+    if (!(to_plane > 0.0)) return false;
+    edge = side * (entry + to_plane * refracted - hit);
+    return true;
+}
+
 // A landed photon's receiver normal as a unit vector (Photon::receiver_normal: the one the
 // cast read at the texel whose plane placed the hit).
 vec3 unit_receiver_normal(Photon ph) {

@@ -62,16 +62,32 @@ uint record[MAX_PHOTONS]; // its records' index
 #endif
 
 // Photon k's cell edges on its receiver along grid axis `axis` (0: u, 1: v), towards its
-// neighbours in the invocation (`side` a row) before and after it: the span to each that lies
-// on its receiver, the other's where only one does, and where neither does (a border, a post
-// a photon wide) its own ray a grid step over (light_step_edge). False with none of these.
+// neighbours before and after it: the span to each neighbour in the invocation (`side` a
+// row) that lies on its receiver; at its coarse cell's border, where the neighbour is another
+// invocation's photon, the span to that neighbour's ray met with its receiver's plane
+// (neighbour_edge_on_plane); the other's where only one of these is found; and where neither
+// is (a post a photon wide) its own ray a grid step over (light_step_edge). False with none.
+// Its grid has at least two photons per cell a side (CausticEstimator::min_subdivision), so
+// a photon lies on one border of its cell along an axis at most, and its neighbour on the
+// other side is in the invocation: the missing one's place in the light's window is the
+// photon's mirrored from it (the view's warp is smooth over two photons).
 bool footprint_edges(int k, int axis, int side, vec2 photons_per_axis, out vec3 before, out vec3 after) {
     int along = axis == 0 ? k % side : k / side, step = axis == 0 ? 1 : side;
     bool a = along > 0 && seen[k - step] && on_one_receiver(hit[k], normal[k], hit[k - step], normal[k - step]);
     bool b = along + 1 < side && seen[k + step] && on_one_receiver(hit[k], normal[k], hit[k + step], normal[k + step]);
     before = a ? hit[k] - hit[k - step] : vec3(0.0);
-    after = b ? hit[k + step] - hit[k] : before;
+    after = b ? hit[k + step] - hit[k] : vec3(0.0);
+    int border = along == 0 ? -1 : along + 1 == side ? 1 : 0; // which side's neighbour another invocation casts
+    if (border != 0) {
+        vec2 across_uv = 2.0 * window_uv[k] - window_uv[k - border * step];
+        vec3 edge;
+        if (neighbour_edge_on_plane(hit[k], normal[k], surface[k], across_uv, float(border), edge)) {
+            if (border < 0) { before = edge; a = true; }
+            else { after = edge; b = true; }
+        }
+    }
     if (!a) before = after;
+    if (!b) after = before;
     if (a || b) return true;
     bool own = light_step_edge(hit[k], normal[k], surface[k], direction[k], window_uv[k], cell_scale[k], axis,
                                photons_per_axis, after);
@@ -150,8 +166,15 @@ void main() {
         mat2 spans = mat2(size, 0.0, 0.0, size); // its cell's edges there, as columns
         vec3 hat_u = vec3(0.0), hat_v = vec3(0.0); // and on its receiver (none for the paper's size)
         vec2 du[2], dv[2];
-        if (normal[k] != vec3(0.0) && footprint_edges(k, 0, side, vec2(photons_per_axis), u[0], u[1])
-            && footprint_edges(k, 1, side, vec2(photons_per_axis), v[0], v[1])) {
+        // One call in a loop over the axes rather than one per axis: each inlined copy of
+        // footprint_edges carries a neighbour's refraction (neighbour_edge_on_plane).
+        vec3 edges[4]; // before and after along u, then along v
+        bool has_footprint = normal[k] != vec3(0.0);
+        for (int axis = 0; axis < 2 && has_footprint; ++axis)
+            has_footprint = footprint_edges(k, axis, side, vec2(photons_per_axis), edges[2 * axis], edges[2 * axis + 1]);
+        u = vec3[2](edges[0], edges[1]);
+        v = vec3[2](edges[2], edges[3]);
+        if (has_footprint) {
             for (int a = 0; a < 2; ++a) {
                 du[a] = target_span(clip, u[a]);
                 dv[a] = target_span(clip, v[a]);
