@@ -44,8 +44,10 @@ const OUTPUT: [u32; 2] = [160, 160];
 /// receiver's border are cut into polygons up to where it ends ("Cells cut at receivers'
 /// borders"). 0.636 since the scenes ship footprint-sized points at 150² × 3², spread by hats
 /// on the photons' lattice ("Hats on the photons' lattice"): the triangles' 0.946 fails the
-/// guard.
-const DEFAULT_RMSE_MEASURED: f64 = 0.636;
+/// guard. 0.594 since a photon at its coarse cell's border casts its neighbour across it
+/// onto its plane instead of mirroring its other span ("Neighbours across the coarse cell's
+/// border").
+const DEFAULT_RMSE_MEASURED: f64 = 0.594;
 
 fn tank() -> Scene {
     underlight::scene::load("tank").unwrap()
@@ -293,15 +295,16 @@ fn default_settings_error_on_the_tank() {
     // on the floors. 0.012 at 800² since they draw their cells (docs/accuracy.md, "Handed-back
     // flux over the photons' cells"), 0.006 since the cells are cut ("Cells cut at receivers'
     // borders"); gap fraction 0.049 against the reference's 0.187. The footprint points as
-    // shipped since: holes 0.0011, gap fraction 0.029.
+    // shipped since: holes 0.0011, gap fraction 0.029; 0.0010 and 0.027 since their border
+    // photons cast their neighbours across it.
     assert!(gaps <= reference_gaps + 0.005, "gap fraction {gaps:.4} against the reference's {reference_gaps:.4}");
     assert!(holes < 0.02, "{:.1} % of the pixels the reference lights hold nothing", 100.0 * holes);
     // Light inside the reference's shadows: the footprint points' hats, a photon's span wide,
     // ran tens of pixels into the shadows beside lit receivers (under the shelf, beside the
     // pillar) and put 0.0028 of the light there in this test (the plain visibility test, as
     // before the shadow test); held to where a photon could land (docs/accuracy.md, "Hats held
-    // out of the shadows"), 0.00036. (Against a 64M-photon reference: 0.0026 and 0.0002; the
-    // triangles 0.0001.)
+    // out of the shadows"), 0.00036; 0.00044 since border photons cast their neighbours
+    // across it. (Against a 64M-photon reference: 0.0026 and 0.0002; the triangles 0.0001.)
     assert!(shadow_light < 0.001, "{:.2} % of the caustic light lies in the reference's shadows", 100.0 * shadow_light);
 }
 
