@@ -102,9 +102,10 @@ bool light_step_edge(vec3 hit, vec3 n, vec3 surface, vec3 direction, vec2 window
     return true;
 }
 
-// The edge of a landed photon's cell towards a grid neighbour that another invocation casts
-// (the footprint points' neighbour across their coarse cell's border), without that
-// neighbour's search of the light's maps: its ray from the light enters the light's window at
+// The edge of a landed photon's cell on its own receiver towards a grid neighbour that is not
+// there: another invocation's photon (across the footprint points' coarse cell's border), or
+// one that landed on another receiver, was blocked or missed. It takes no search of the
+// light's maps: the neighbour's ray from the light enters the light's window at
 // `window_uv`, crosses the water at the height where the photon's ray entered it (`surface`),
 // is refracted by the water's own normal there, and meets the photon's receiver plane (unit
 // normal n through `hit`). `side` is −1 for the neighbour before the photon along the axis,
@@ -114,9 +115,11 @@ bool light_step_edge(vec3 hit, vec3 n, vec3 surface, vec3 direction, vec2 window
 // on the other side before, the cell's edge only where the waves do not focus: at 3 × 3, 8
 // of every 9 photons lie on a border, and their hats, too short on one side and too long on
 // the other, drew the coarse grid into the caustic (docs/accuracy.md, "Neighbours across the
-// coarse cell's border"). The height of the photon's entry rather than the neighbour's own
-// (one Newton step more) moved no figure in the third decimal. False where the ray misses
-// the water, meets the back of a wave or is totally reflected, or runs along the plane.
+// coarse cell's border"); inside the cell, their hats left streaks of nothing beside shadows
+// ("Every missing neighbour on the photon's plane"). The height of the photon's entry rather
+// than the neighbour's own (one Newton step more) moved no figure in the third decimal. False
+// where the ray misses the water, meets the back of a wave or is totally reflected, or runs
+// along the plane.
 bool neighbour_edge_on_plane(vec3 hit, vec3 n, vec3 surface, vec2 window_uv, float side, out vec3 edge) {
     edge = vec3(0.0);
     vec2 ndc = (frame.photon_window_min + window_uv * frame.photon_window_size) * 2.0 - 1.0;

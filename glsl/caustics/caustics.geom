@@ -63,28 +63,32 @@ uint record[MAX_PHOTONS]; // its records' index
 
 // Photon k's cell edges on its receiver along grid axis `axis` (0: u, 1: v), towards its
 // neighbours before and after it: the span to each neighbour in the invocation (`side` a
-// row) that lies on its receiver; at its coarse cell's border, where the neighbour is another
-// invocation's photon, the span to that neighbour's ray met with its receiver's plane
-// (neighbour_edge_on_plane); the other's where only one of these is found; and where neither
-// is (a post a photon wide) its own ray a grid step over (light_step_edge). False with none.
-// Its grid has at least two photons per cell a side (CausticEstimator::min_subdivision), so
-// a photon lies on one border of its cell along an axis at most, and its neighbour on the
-// other side is in the invocation: the missing one's place in the light's window is the
-// photon's mirrored from it (the view's warp is smooth over two photons).
+// row) that landed on its receiver; for a neighbour that did not (another invocation's
+// photon at the coarse cell's border, or one in the invocation that landed on another
+// receiver, was blocked or missed), the span to that neighbour's ray met with the photon's
+// receiver plane (neighbour_edge_on_plane); the other's where only one of these is found; and
+// where neither is (both rays run along the plane) its own ray a grid step over
+// (light_step_edge). False with none. Its grid has at least two photons per cell a side
+// (CausticEstimator::min_subdivision), so a photon lies on one border of its cell along an
+// axis at most, and its neighbour on the other side is in the invocation: the missing one's
+// place in the light's window is the photon's mirrored from it (the view's warp is smooth
+// over two photons). A neighbour in the invocation gives its own place.
 bool footprint_edges(int k, int axis, int side, vec2 photons_per_axis, out vec3 before, out vec3 after) {
     int along = axis == 0 ? k % side : k / side, step = axis == 0 ? 1 : side;
     bool a = along > 0 && seen[k - step] && on_one_receiver(hit[k], normal[k], hit[k - step], normal[k - step]);
     bool b = along + 1 < side && seen[k + step] && on_one_receiver(hit[k], normal[k], hit[k + step], normal[k + step]);
     before = a ? hit[k] - hit[k - step] : vec3(0.0);
     after = b ? hit[k + step] - hit[k] : vec3(0.0);
-    int border = along == 0 ? -1 : along + 1 == side ? 1 : 0; // which side's neighbour another invocation casts
-    if (border != 0) {
-        vec2 across_uv = 2.0 * window_uv[k] - window_uv[k - border * step];
+    // The missing neighbours, before (-1) and after (+1), in one loop: each inlined copy of
+    // neighbour_edge_on_plane carries a refraction and a surface evaluation.
+    for (int dir = -1; dir <= 1; dir += 2) {
+        if (dir < 0 ? a : b) continue;
+        bool in_invocation = dir < 0 ? along > 0 : along + 1 < side;
+        vec2 neighbour_uv = in_invocation ? window_uv[k + dir * step] : 2.0 * window_uv[k] - window_uv[k - dir * step];
         vec3 edge;
-        if (neighbour_edge_on_plane(hit[k], normal[k], surface[k], across_uv, float(border), edge)) {
-            if (border < 0) { before = edge; a = true; }
-            else { after = edge; b = true; }
-        }
+        if (!neighbour_edge_on_plane(hit[k], normal[k], surface[k], neighbour_uv, float(dir), edge)) continue;
+        if (dir < 0) { before = edge; a = true; }
+        else { after = edge; b = true; }
     }
     if (!a) before = after;
     if (!b) after = before;
