@@ -53,6 +53,24 @@ bool on_one_receiver(vec3 at, vec3 n_at, vec3 p, vec3 n) {
     return abs(dot(d, n_at)) <= 0.25 * length(d);
 }
 
+// Where a grid neighbour's light ray (unit direction d) that enters the water at `entry`,
+// refracted there by the unit water normal `water_normal`, meets the plane of unit normal n
+// through `hit` (a landed photon's receiver): the cell edges' tail (light_step_edge,
+// neighbour_edge_on_plane). False where the ray meets the back of a wave, is totally
+// reflected, runs along the plane or meets it behind the water.
+bool refracted_ray_meets_plane(vec3 entry, vec3 d, vec3 water_normal, vec3 hit, vec3 n, out vec3 at) {
+    at = vec3(0.0);
+    vec3 refracted = refract(d, water_normal, 1.0 / frame.ior);
+    if (dot(-d, water_normal) <= 0.0 || dot(refracted, refracted) == 0.0) return false;
+    refracted = normalize(refracted);
+    float along = dot(refracted, n);
+    if (abs(along) <= 1e-3) return false;
+    float to_plane = dot(hit - entry, n) / along;
+    if (!(to_plane > 0.0)) return false;
+    at = entry + to_plane * refracted;
+    return true;
+}
+
 // The edge of a landed photon's cell along grid axis `axis` (0: u, 1: v) from its own
 // refracted ray (entering the water at `surface` along `direction`, its hit on the plane of
 // unit normal n, cast at `window_uv` of a grid of `photons_per_axis` whose warp scales its
@@ -82,23 +100,18 @@ bool light_step_edge(vec3 hit, vec3 n, vec3 surface, vec3 direction, vec2 window
         edge = at_water - direction * (dot(at_water, n) / denom);
         return true;
     }
-    vec2 ndc = (frame.photon_window_min + window_uv * frame.photon_window_size) * 2.0 - 1.0;
+    vec2 ndc = photon_window_ndc(window_uv);
     ndc[axis] += 2.0 * frame.photon_window_size[axis] / photons_per_axis[axis] * sqrt(cell_scale);
-    vec4 a = frame.light_inv_view_proj * vec4(ndc, 0.0, 1.0);
-    vec4 b = frame.light_inv_view_proj * vec4(ndc, 1.0, 1.0);
-    vec3 o = a.xyz / a.w;
-    vec3 d = normalize(b.xyz / b.w - o);
+    vec3 o, d;
+    light_ray_at(ndc, o, d);
     if (!(d.y < -1e-3)) return false;
     // Snell's law in vectors: incident − ior · refracted lies along the water's normal.
     vec3 incident = normalize(surface - frame.light_position);
     vec3 water_normal = normalize(incident - frame.ior * direction);
     vec3 entry = o + d * ((surface.y - o.y) / d.y);
-    vec3 refracted = refract(d, water_normal, 1.0 / frame.ior);
-    float along = dot(refracted, n);
-    if (dot(refracted, refracted) == 0.0 || abs(along) <= 1e-3) return false;
-    float t = dot(hit - entry, n) / along;
-    if (!(t > 0.0)) return false;
-    edge = entry + t * refracted - hit;
+    vec3 at;
+    if (!refracted_ray_meets_plane(entry, d, water_normal, hit, n, at)) return false;
+    edge = at - hit;
     return true;
 }
 
@@ -122,25 +135,16 @@ bool light_step_edge(vec3 hit, vec3 n, vec3 surface, vec3 direction, vec2 window
 // along the plane.
 bool neighbour_edge_on_plane(vec3 hit, vec3 n, vec3 surface, vec2 window_uv, float side, out vec3 edge) {
     edge = vec3(0.0);
-    vec2 ndc = (frame.photon_window_min + window_uv * frame.photon_window_size) * 2.0 - 1.0;
-    vec4 a = frame.light_inv_view_proj * vec4(ndc, 0.0, 1.0);
-    vec4 b = frame.light_inv_view_proj * vec4(ndc, 1.0, 1.0);
-    vec3 o = a.xyz / a.w;
-    vec3 d = normalize(b.xyz / b.w - o);
+    vec3 o, d;
+    light_ray_at(photon_window_ndc(window_uv), o, d);
     if (!(d.y < -1e-3)) return false;
     WaterParams w = frame_water();
     vec3 phase = frame_water_phase();
     vec3 entry = o + d * ((surface.y - o.y) / d.y);
     vec3 hg = water_height_grad(w, noise_tex, entry.xz, phase);
-    vec3 water_normal = water_normal_from_grad(hg.yz);
-    vec3 refracted = refract(d, water_normal, 1.0 / w.ior);
-    if (dot(-d, water_normal) <= 0.0 || dot(refracted, refracted) == 0.0) return false;
-    refracted = normalize(refracted);
-    float along = dot(refracted, n);
-    if (abs(along) <= 1e-3) return false;
-    float to_plane = dot(hit - entry, n) / along;
-    if (!(to_plane > 0.0)) return false;
-    edge = side * (entry + to_plane * refracted - hit);
+    vec3 at;
+    if (!refracted_ray_meets_plane(entry, d, water_normal_from_grad(hg.yz), hit, n, at)) return false;
+    edge = side * (at - hit);
     return true;
 }
 

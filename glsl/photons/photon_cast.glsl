@@ -353,6 +353,22 @@ int intersect_receivers(vec3 ps, vec3 rt, bool steep, LightRay light, int surfac
     return converged(hit, r.xyz, rn, to_hit, dist, steep) ? PHOTON_LANDED : PHOTON_NOT_CONVERGED;
 }
 
+// The light's NDC at a point of the photon window (`window_uv`, after the warp: [0, 1]²
+// inside; Photon::window_uv).
+vec2 photon_window_ndc(vec2 window_uv) {
+    return (frame.photon_window_min + window_uv * frame.photon_window_size) * 2.0 - 1.0;
+}
+
+// The light's ray through its NDC `ndc`: from the light's near plane, along a unit direction.
+// cast_photon casts a photon along it; the caustic estimators' cell edges
+// (caustic_splat.glsl) cast a grid neighbour's without the neighbour's search.
+void light_ray_at(vec2 ndc, out vec3 origin, out vec3 direction) {
+    vec4 near_point = frame.light_inv_view_proj * vec4(ndc, 0.0, 1.0);
+    vec4 far_point = frame.light_inv_view_proj * vec4(ndc, 1.0, 1.0);
+    origin = near_point.xyz / near_point.w;
+    direction = normalize(far_point.xyz / far_point.w - origin);
+}
+
 // Casts the photon at light-space position uv ∈ [0,1]² of a grid with photons_per_axis.x ×
 // photons_per_axis.y photons (square but for the caustic triangles' grid, whose aspect
 // follows the view: caustics_triangles.geom). Returns false for photons that never enter the
@@ -375,12 +391,8 @@ bool cast_photon(vec2 uv, vec2 photons_per_axis, out Photon ph) {
     uv += frame.photon_jitter / photons_per_axis;
     if (PHOTON_WARP && DENSITY_WARP > 0.0) uv = photon_density_warp(uv, 0.5 / photons_per_axis, ph.cell_scale);
     ph.window_uv = uv;
-    uv = frame.photon_window_min + uv * frame.photon_window_size;
-    vec2 ndc = uv * 2.0 - 1.0;
-    vec4 a = frame.light_inv_view_proj * vec4(ndc, 0.0, 1.0);
-    vec4 b = frame.light_inv_view_proj * vec4(ndc, 1.0, 1.0);
-    vec3 o = a.xyz / a.w;
-    vec3 d = normalize(b.xyz / b.w - o);
+    vec3 o, d;
+    light_ray_at(photon_window_ndc(uv), o, d);
     // Flux of this photon before the surface (what a dropped photon's record carries): the
     // light's power through its share of the photon window. Directional: E⊥ × window area
     // / N². Point: I × the photon's solid angle (tangent-plane cell area × cos³ of its angle
