@@ -90,6 +90,12 @@ echo "== bench: $configs, every photon path, scaling"
 if [ -n "$godray_configs" ]; then
   echo "== bench: the godray methods, $godray_configs"
   "$bin" bench --config "$godray_configs" "${frames[@]}" --json "$out/bench-godrays.json" | tee "$out/bench-godrays.txt"
+  # The scaling curves again from the shipped estimator: above they start from paper-800,
+  # and the footprint points' balance of coarse grid against subdivision (3 shipped, 6
+  # cheaper on lavapipe, output per invocation 4x larger) is for a GPU to settle.
+  echo "== bench: scaling from the shipped footprint points"
+  "$bin" bench --config footprint-points-800 "${frames[@]}" --scaling --json "$out/bench-footprint-scaling.json" \
+    | tee "$out/bench-footprint-scaling.txt"
 fi
 for scene in "${scenes[@]}"; do
   echo "== accuracy: $scene at the shipped settings"
@@ -106,6 +112,8 @@ seconds=$(( $(date +%s) - start ))
   if [ -n "$godray_configs" ]; then
     printf ',\n  "godray_methods": '
     cat "$out/bench-godrays.json"
+    printf ',\n  "footprint_scaling": '
+    cat "$out/bench-footprint-scaling.json"
   fi
   printf ',\n  "accuracy": {'
   sep=""
@@ -136,6 +144,12 @@ seconds=$(( $(date +%s) - start ))
     echo
     echo '```'
     cat "$out/bench-godrays.txt"
+    echo '```'
+    echo
+    echo "## Scaling from the shipped footprint points"
+    echo
+    echo '```'
+    cat "$out/bench-footprint-scaling.txt"
     echo '```'
   fi
   for scene in "${scenes[@]}"; do

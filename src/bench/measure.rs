@@ -249,8 +249,10 @@ pub fn scaling(
     // triangle estimator's geometry shader takes at most 3 (caustics_triangles.geom).
     let subdivisions = match base.caustic_estimator {
         CausticEstimator::Triangles => vec![1.0, 2.0, 3.0],
-        // The footprint points need a neighbour in their cell.
-        CausticEstimator::Footprint => vec![2.0, 4.0, 8.0],
+        // The footprint points need a neighbour in their cell; they ship 3, and 6 cast the
+        // same photons at 0.76-1.06x the cost on lavapipe (docs/performance.md, "The
+        // footprint points' coarse grid against their subdivision").
+        CausticEstimator::Footprint => vec![2.0, 3.0, 4.0, 6.0, 8.0],
         CausticEstimator::Paper => vec![1.0, 2.0, 4.0, 8.0],
     };
     // (name, pass, values, how each value changes the configuration, the work it measures)
