@@ -310,7 +310,8 @@ fn default_settings_error_on_the_tank() {
     // pillar) and put 0.0028 of the light there in this test (the plain visibility test, as
     // before the shadow test); held to where a photon could land (docs/accuracy.md, "Hats held
     // out of the shadows"), 0.00036; 0.00044 since border photons cast their neighbours
-    // across it, 0.00046 since every missing neighbour. (Against a 64M-photon reference: 0.0026 and 0.0002; the triangles 0.0001.)
+    // across it, 0.00046 since every missing neighbour. (Against a 64M-photon reference:
+    // 0.0026 and 0.0002; the triangles 0.0001.)
     assert!(shadow_light < 0.001, "{:.2} % of the caustic light lies in the reference's shadows", 100.0 * shadow_light);
 }
 

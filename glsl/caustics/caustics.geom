@@ -67,8 +67,8 @@ uint record[MAX_PHOTONS]; // its records' index
 // photon at the coarse cell's border, or one in the invocation that landed on another
 // receiver, was blocked or missed), the span to that neighbour's ray met with the photon's
 // receiver plane (neighbour_edge_on_plane); the other's where only one of these is found; and
-// where neither is (both rays run along the plane) its own ray a grid step over
-// (light_step_edge). False with none. Its grid has at least two photons per cell a side
+// where neither is (both neighbours' rays miss the water or run along the plane) its own ray
+// a grid step over (light_step_edge). False with none. Its grid has at least two photons per cell a side
 // (CausticEstimator::min_subdivision), so a photon lies on one border of its cell along an
 // axis at most, and its neighbour on the other side is in the invocation: the missing one's
 // place in the light's window is the photon's mirrored from it (the view's warp is smooth
