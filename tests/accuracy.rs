@@ -54,8 +54,14 @@ fn tank() -> Scene {
     underlight::scene::load("tank").unwrap()
 }
 
+/// A folder of its own for one call: the tests run on parallel threads of one process, and
+/// each removes its folder when done, so a folder named by the process alone was removed
+/// under another test still writing its reference into it (a CI run on 2026-12-06 failed so).
 fn cache_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("underlight-accuracy-{name}-{}", std::process::id()));
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    static CALLS: AtomicUsize = AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("underlight-accuracy-{name}-{}-{call}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
