@@ -232,6 +232,21 @@ fn fit(points: &[(f64, f64)]) -> (f64, f64) {
     (slope, my - slope * mx)
 }
 
+/// The caustic subdivisions `scaling` splits the same photons through, between the coarse
+/// grid and the geometry shader: the balance between invocations and the work (and output)
+/// of each. Within what each estimator's geometry shader takes (the triangles' at most 3,
+/// caustics_triangles.geom; the footprint points at least 2, a neighbour in their cell), and
+/// through what the scenes ship: the footprint points 3, where 6 cast the same photons at
+/// 0.76-1.06x the cost on lavapipe (docs/performance.md, "The footprint points' coarse grid
+/// against their subdivision").
+pub fn subdivision_series(estimator: CausticEstimator) -> Vec<u32> {
+    match estimator {
+        CausticEstimator::Triangles => vec![1, 2, 3],
+        CausticEstimator::Footprint => vec![2, 3, 4, 6, 8],
+        CausticEstimator::Paper => vec![1, 2, 4, 8],
+    }
+}
+
 /// Cost against the work: caustic photons, their split between the coarse grid and the
 /// subdivision, godray photons, caustic target pixels, point size and line width, each varied
 /// alone from paper-800 (or from `base`, scaled down for tests).
@@ -244,17 +259,7 @@ pub fn scaling(
 ) -> Result<Vec<Series>> {
     type Vary = fn(&mut BenchConfig, f64);
     type Measure = fn(&BenchConfig) -> f64;
-    // The same photons split differently between the coarse grid and the geometry shader's
-    // subdivision: the balance between invocations and the work (and output) of each. The
-    // triangle estimator's geometry shader takes at most 3 (caustics_triangles.geom).
-    let subdivisions = match base.caustic_estimator {
-        CausticEstimator::Triangles => vec![1.0, 2.0, 3.0],
-        // The footprint points need a neighbour in their cell; they ship 3, and 6 cast the
-        // same photons at 0.76-1.06x the cost on lavapipe (docs/performance.md, "The
-        // footprint points' coarse grid against their subdivision").
-        CausticEstimator::Footprint => vec![2.0, 3.0, 4.0, 6.0, 8.0],
-        CausticEstimator::Paper => vec![1.0, 2.0, 4.0, 8.0],
-    };
+    let subdivisions = subdivision_series(base.caustic_estimator).into_iter().map(f64::from).collect();
     // (name, pass, values, how each value changes the configuration, the work it measures)
     let sweeps: [(&str, &str, Vec<f64>, Vary, Measure); 6] = [
         (
@@ -334,6 +339,25 @@ mod tests {
     fn quantiles_are_nearest_rank() {
         let s = stats("x", (1..=21).rev().map(|v| v as f64).collect());
         assert_eq!((s.p5_ms, s.median_ms, s.p95_ms), (2.0, 11.0, 20.0));
+    }
+
+    #[test]
+    fn subdivision_series_stay_within_each_geometry_shader_and_reach_what_the_scenes_ship() {
+        for estimator in CausticEstimator::ALL {
+            let series = subdivision_series(estimator);
+            let bounds = estimator.min_subdivision()..=estimator.max_subdivision();
+            assert!(series.iter().all(|s| bounds.contains(s)), "{estimator:?}: {series:?} outside {bounds:?}");
+            assert!(series.windows(2).all(|w| w[0] < w[1]), "{estimator:?}: {series:?}");
+        }
+        for name in ["tank", "port", "storage"] {
+            let effects = crate::scene::load(name).unwrap().effects;
+            let series = subdivision_series(effects.caustic_estimator);
+            assert!(
+                series.contains(&effects.caustic_subdivision),
+                "{name} ships {}: {series:?}",
+                effects.caustic_subdivision
+            );
+        }
     }
 
     #[test]
