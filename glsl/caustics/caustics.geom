@@ -68,11 +68,11 @@ uint record[MAX_PHOTONS]; // its records' index
 // receiver, was blocked or missed), the span to that neighbour's ray met with the photon's
 // receiver plane (neighbour_edge_on_plane); the other's where only one of these is found; and
 // where neither is (both neighbours' rays miss the water or run along the plane) its own ray
-// a grid step over (light_step_edge). False with none. Its grid has at least two photons per cell a side
-// (CausticEstimator::min_subdivision), so a photon lies on one border of its cell along an
-// axis at most, and its neighbour on the other side is in the invocation: the missing one's
-// place in the light's window is the photon's mirrored from it (the view's warp is smooth
-// over two photons). A neighbour in the invocation gives its own place.
+// a grid step over (light_step_edge). False with none. Its grid has at least two photons per
+// cell a side (CausticEstimator::min_subdivision), so a photon lies on one border of its
+// cell along an axis at most, and its neighbour on the other side is in the invocation: the
+// missing one's place in the light's window is the photon's mirrored from it (the view's
+// warp is smooth over two photons). A neighbour in the invocation gives its own place.
 bool footprint_edges(int k, int axis, int side, vec2 photons_per_axis, out vec3 before, out vec3 after) {
     int along = axis == 0 ? k % side : k / side, step = axis == 0 ? 1 : side;
     bool a = along > 0 && seen[k - step] && on_one_receiver(hit[k], normal[k], hit[k - step], normal[k - step]);
