@@ -56,7 +56,7 @@ fn tank() -> Scene {
 
 /// A folder of its own for one call: the tests run on parallel threads of one process, and
 /// each removes its folder when done, so a folder named by the process alone was removed
-/// under another test still writing its reference into it (a CI run on 2026-12-06 failed so).
+/// under another test still writing its reference into it (a fresh-clone run of the suite on 2026-12-06 failed so).
 fn cache_dir(name: &str) -> std::path::PathBuf {
     use std::sync::atomic::{AtomicUsize, Ordering};
     static CALLS: AtomicUsize = AtomicUsize::new(0);
