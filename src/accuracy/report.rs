@@ -178,10 +178,12 @@ pub fn plot(rows: &[SweepRow], title: &str, path: &Path) -> Result<()> {
         .map_err(|e| draw(&e))?
         .label("Pareto front")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], RED.stroke_width(2)));
-    // Blue for the paper's points, dark yellow for the triangles, grey for anything else.
+    // Blue for the paper's points, dark yellow for the triangles, green for the footprint
+    // points, grey for anything else.
     let colour = |estimator: &str| match estimator {
         "paper" => BLUE,
         "triangles" => RGBColor(200, 140, 0),
+        "footprint" => RGBColor(0, 150, 80),
         _ => RGBColor(110, 110, 110),
     };
     for (estimator, filter) in plot_series(rows) {
