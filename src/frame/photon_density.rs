@@ -26,8 +26,9 @@
 //! beams, it adds the length of each step along the ray's underwater part above the step.
 //! Near a cell's border a weight is shared with the cell across it (`deposit`), so that the
 //! warp moves no more than the camera does.
-//! Blurred (`BLUR`: the waves bend photons sideways) and floored at `FLOOR` of the mean (so that
-//! receivers no ray met still get photons), each histogram is a piecewise-constant density.
+//! Blurred (`BLUR`: the waves bend photons sideways) and floored at `FLOOR` of the mean
+//! (`FOOTPRINT_FLOOR` for the footprint points' histogram; so that receivers no ray met still
+//! get photons), each histogram is a piecewise-constant density.
 //! The warp is its inverse cumulative distribution: the window's v from the rows' marginal,
 //! the window's u from each row's conditional, interpolated between rows so that the mesh
 //! stays continuous; or, for the caustic triangles where that makes their cells squarer on
@@ -69,9 +70,17 @@ const SURVEY_MARGIN: f32 = 0.1;
 /// one pass 0.403 / 0.440 / 0.516, two 0.357 / 0.373 / 0.493, three 0.331 / 0.365 / 0.473).
 const BLUR: usize = 3;
 /// The least density, as a share of the mean: receivers between the rays, and light the waves
-/// bend in from outside the view, keep some photons. 0.05, 0.15 and 0.3 measured alike
-/// (within 0.015 on every scene); 0.15 lost the least flux on the port.
+/// bend in from outside the view, keep some photons. For the triangles at 320×200, 0.05, 0.15
+/// and 0.3 measured alike (within 0.015 on every scene); 0.15 lost the least flux on the port.
+/// The godray beams keep it too.
 const FLOOR: f64 = 0.15;
+/// The floor for the footprint points, whose hats span the gaps between photons wherever the
+/// survey's few rays left the density low: 0.3 reads lower than 0.15 at 320×200 and at the
+/// scenes' own sizes on all three scenes, 0.05 and 0.45 higher (caustic relative RMSE, t = 1 s,
+/// tank / port / storage, own sizes against 512M-photon references: 0.05 0.407 / 0.645 /
+/// 0.619, 0.15 0.374 / 0.610 / 0.573, 0.3 0.345 / 0.592 / 0.553, 0.45 0.344 / 0.592 / 0.650;
+/// docs/accuracy.md, "The survey's floor for the footprint points").
+const FOOTPRINT_FLOOR: f64 = 0.3;
 /// The power of a receiver's expected irradiance in its survey weight (`receiver_weight`).
 /// The module's derivation with each pixel's error scaled by the irradiance E it shows: the
 /// summed squared error `∫ q·E²·(q/n)^s` is least at `n ∝ q·E^(2/(1+s))`, so photons should
@@ -351,7 +360,11 @@ pub fn view_adapted(
     let ray_step = (output * (1.0 + SURVEY_MARGIN) / Vec2::new(RAYS[0] as f32, RAYS[1] as f32)).as_dvec2();
     ViewDensities {
         caustics: (landed >= MIN_RAYS).then(|| {
-            let density = survey_density(receivers);
+            let floor = match scene.effects.caustic_estimator {
+                crate::scene::CausticEstimator::Footprint => FOOTPRINT_FLOOR,
+                _ => FLOOR,
+            };
+            let density = survey_density(receivers, floor);
             let shaped = || shaped_for_the_mesh(&density, &receiver_uv, ray_step, previous.and_then(|p| p.caustics));
             match scene.effects.caustic_estimator {
                 // The triangles' mesh cells want a shaped grid: its aspect and the warp's order.
@@ -367,7 +380,7 @@ pub fn view_adapted(
                 crate::scene::CausticEstimator::Paper => PhotonDensity::from_histogram(&density),
             }
         }),
-        godrays: (crossed >= MIN_RAYS).then(|| PhotonDensity::from_histogram(&survey_density(crossings))),
+        godrays: (crossed >= MIN_RAYS).then(|| PhotonDensity::from_histogram(&survey_density(crossings, FLOOR))),
     }
 }
 
@@ -706,15 +719,16 @@ fn grid_aspect_level(k: f32, previous: Option<f32>) -> f32 {
 }
 
 /// The density from a survey's histogram: BLUR passes of a 3×3 box over the cells (clamped at
-/// the window's border), then the floor.
-fn survey_density(counts: [[f64; SEGMENTS]; SEGMENTS]) -> [[f64; SEGMENTS]; SEGMENTS] {
+/// the window's border), then `floor` of the mean added to every cell (`FLOOR`,
+/// `FOOTPRINT_FLOOR`).
+fn survey_density(counts: [[f64; SEGMENTS]; SEGMENTS], floor: f64) -> [[f64; SEGMENTS]; SEGMENTS] {
     let mut density = counts;
     for _ in 0..BLUR {
         density = box_blur(&density);
     }
     let mean = density.iter().flatten().sum::<f64>() / (SEGMENTS * SEGMENTS) as f64;
     for d in density.iter_mut().flatten() {
-        *d += FLOOR * mean;
+        *d += floor * mean;
     }
     density
 }
