@@ -585,6 +585,51 @@ pub fn footprint_hat_share(pixel: Vec2, centre: Vec2, to_lattice: Mat2) -> f32 {
     sum / (FOOTPRINT_HAT_SAMPLES * FOOTPRINT_HAT_SAMPLES)
 }
 
+/// GLSL `FOOTPRINT_RECEIVER_SLOPE`: how far off a footprint point's receiver plane, per metre
+/// from the photon, a pixel's surface may lie and still show that receiver (on_one_receiver's
+/// quarter).
+pub const FOOTPRINT_RECEIVER_SLOPE: f32 = 0.25;
+/// GLSL `FOOTPRINT_RECEIVER_DEPTH_SLACK`: the least such offset, a share of the pixel's depth.
+pub const FOOTPRINT_RECEIVER_DEPTH_SLACK: f32 = 2e-3;
+
+/// GLSL `footprint_pixel_on_receiver`: whether the pixel centred on `pixel`, whose surface has
+/// reciprocal view depth `w_scene`, shows the receiver plane of the footprint point whose hat
+/// is centred on `centre` (reciprocal view depth `w_centre` there, `w_gradient` per pixel).
+pub fn footprint_pixel_on_receiver(
+    pixel: Vec2,
+    centre: Vec2,
+    w_centre: f32,
+    w_gradient: Vec2,
+    w_scene: f32,
+    target_size: Vec2,
+    tan_half_fov_y: f32,
+) -> bool {
+    let w_plane = w_centre + w_gradient.dot(pixel - centre);
+    if !(w_plane > 0.0) || !(w_scene > 0.0) {
+        return false;
+    }
+    let tan_half = Vec2::new(tan_half_fov_y * target_size.x / target_size.y, tan_half_fov_y);
+    let ndc_slope = w_gradient * 0.5 * target_size;
+    let w_at_axis = w_centre + w_gradient.dot(0.5 * target_size - centre);
+    let plane_distance = 1.0 / (ndc_slope / tan_half).extend(w_at_axis).length().max(1e-30);
+    let ray = ((pixel / target_size * 2.0 - Vec2::ONE) * tan_half).extend(1.0);
+    let photon_ray = ((centre / target_size * 2.0 - Vec2::ONE) * tan_half).extend(1.0);
+    let off_plane = (w_plane / w_scene - 1.0).abs() * plane_distance;
+    let from_photon = (ray / w_scene - photon_ray / w_centre).length();
+    off_plane <= FOOTPRINT_RECEIVER_SLOPE * from_photon + FOOTPRINT_RECEIVER_DEPTH_SLACK / w_scene
+}
+
+/// GLSL `footprint_receiver_plane`: the receiver plane's reciprocal view depth per target
+/// pixel over its value `w_centre` at the photon, from two of its directions' spans on the
+/// target and changes of reciprocal depth; None where the plane is seen edge on.
+pub fn footprint_receiver_plane(s1: Vec2, s2: Vec2, dw1: f32, dw2: f32, w_centre: f32) -> Option<Vec2> {
+    let det = s1.x * s2.y - s1.y * s2.x;
+    if !(det.abs() > 1e-6 * (s1.dot(s1) + s2.dot(s2))) {
+        return None;
+    }
+    Some(Vec2::new(dw1 * s2.y - dw2 * s1.y, dw2 * s1.x - dw1 * s2.x) / (det * w_centre))
+}
+
 // Photon casting (GLSL: photon_cast.glsl, `cast_photon`).
 
 /// A photon that reached a receiver (GLSL `Photon`).
@@ -985,7 +1030,7 @@ mod tests {
                 None => number(value),
             }
         };
-        let twins: [(&str, f64); 8] = [
+        let twins: [(&str, f64); 10] = [
             ("WATER_MAX_MARCH_STEPS", WATER_MAX_MARCH_STEPS as f64),
             ("WATER_REFINE_STEPS", WATER_REFINE_STEPS as f64),
             ("WATER_REFINE_RESIDUAL", WATER_REFINE_RESIDUAL as f64),
@@ -994,10 +1039,80 @@ mod tests {
             ("CAUSTIC_DEPTH_TOLERANCE", CAUSTIC_DEPTH_TOLERANCE as f64),
             ("PHOTON_RECORD_FOOTPRINT_CLAMPED", crate::flux_budget::FOOTPRINT_CLAMPED as f64),
             ("FOOTPRINT_HAT_SAMPLES", FOOTPRINT_HAT_SAMPLES as f64),
+            ("FOOTPRINT_RECEIVER_SLOPE", FOOTPRINT_RECEIVER_SLOPE as f64),
+            ("FOOTPRINT_RECEIVER_DEPTH_SLACK", FOOTPRINT_RECEIVER_DEPTH_SLACK as f64),
         ];
         for (name, rust) in twins {
             let g = glsl(name);
             assert!((g - rust).abs() <= 1e-7 * g.abs().max(1.0), "{name}: GLSL {g}, Rust {rust}");
+        }
+    }
+
+    /// A footprint point's receiver test, with its plane found as the geometry shader finds it
+    /// (two directions on the plane, projected): a symmetric camera looking along +z (view
+    /// space), 320×200 pixels. Every pixel of the plane passes, however the plane is turned
+    /// (a floor seen at a slant, a wall face on, a facet at 60°); a surface half a metre behind
+    /// the plane's points within a metre of the photon (a floor past a rock's silhouette)
+    /// fails, as does one that bends 45° away at the
+    /// photon (a facet past a crease), while one that bends 10° passes (the seabed's facets).
+    #[test]
+    fn a_footprint_point_s_receiver_holds_its_own_plane_and_not_what_lies_past_it() {
+        let size = Vec2::new(320.0, 200.0);
+        let tan_y = 0.5f32;
+        let tan = Vec2::new(tan_y * size.x / size.y, tan_y);
+        let pixel_of = |p: Vec3| (p.xy() / (p.z * tan) * 0.5 + Vec2::splat(0.5)) * size;
+        // The point of the plane (through `at`, normal `n`) that pixel `px` shows.
+        let on_plane = |at: Vec3, n: Vec3, px: Vec2| {
+            let ray = ((px / size * 2.0 - Vec2::ONE) * tan).extend(1.0);
+            ray * (n.dot(at) / n.dot(ray))
+        };
+        let plane_of = |at: Vec3, n: Vec3| -> (Vec2, f32, Vec2) {
+            let t1 = n.cross(if n.y.abs() < 0.9 { Vec3::Y } else { Vec3::X }).normalize();
+            let t2 = n.cross(t1);
+            let (centre, w) = (pixel_of(at), 1.0 / at.z);
+            let step = 1e-3;
+            let span = |t: Vec3| (pixel_of(at + t * step) - centre) / step;
+            let dw = |t: Vec3| (1.0 / (at + t * step).z - w) / step;
+            let g = footprint_receiver_plane(span(t1), span(t2), dw(t1), dw(t2), w).expect("a plane seen edge on");
+            (centre, w, g * w)
+        };
+        let planes = [
+            (Vec3::new(0.4, -0.8, 4.0), Vec3::new(0.0, 1.0, 0.0)), // a floor at a slant
+            (Vec3::new(-0.5, 0.2, 6.0), Vec3::new(0.0, 0.0, -1.0)), // a wall face on
+            (Vec3::new(0.2, 0.1, 3.0), Vec3::new(0.75f32.sqrt(), 0.0, -0.5)), // a facet at 60°
+        ];
+        for (at, n) in planes {
+            let (centre, w, g) = plane_of(at, n);
+            let test = |px: Vec2, p: Vec3| footprint_pixel_on_receiver(px, centre, w, g, 1.0 / p.z, size, tan_y);
+            let mut checked = 0;
+            for dy in (-30..=30).step_by(6) {
+                for dx in (-30..=30).step_by(6) {
+                    let px = centre + Vec2::new(dx as f32, dy as f32);
+                    let p = on_plane(at, n, px);
+                    if p.z <= 0.1 || (p - at).length() > 1.0 {
+                        continue;
+                    }
+                    checked += 1;
+                    assert!(test(px, p), "plane {n}: pixel {px} on the plane fails");
+                    // Half a metre behind the plane there: what a hat's edge past its receiver
+                    // meets (its pixel is another, but no nearer the photon).
+                    let away = if n.dot(at) > 0.0 { n } else { -n };
+                    let behind = p + 0.5 * away;
+                    assert!(!test(pixel_of(behind), behind), "plane {n}: half a metre behind {p} passes");
+                }
+            }
+            assert!(checked > 30, "plane {n}: {checked} pixels checked");
+            // Bent at the photon about an axis in the plane: 10° stays on the receiver, 45° leaves it.
+            let axis = n.cross(Vec3::Z).try_normalize().unwrap_or(Vec3::X);
+            let along = axis.cross(n).normalize();
+            for (degrees, same) in [(10.0f32, true), (45.0, false)] {
+                for side in [-1.0f32, 1.0] {
+                    let bent = glam::Quat::from_axis_angle(axis, degrees.to_radians()) * n;
+                    let p = on_plane(at, bent, pixel_of(at + along * side * 0.3));
+                    let px = pixel_of(p);
+                    assert_eq!(test(px, p), same, "plane {n}, bent {degrees}° on side {side}");
+                }
+            }
         }
     }
 

@@ -78,6 +78,17 @@ pub const VARIANTS: &[Variant] = &[
         defines: &["FOOTPRINT_POINTS", "PHOTON_DEBUG"],
     },
     Variant { name: "caustics_footprint.frag", source: "caustics/caustics.frag", defines: &["FOOTPRINT_POINTS"] },
+    // Their hats held to the pixels that show their receiver (effects.caustic_receiver_test).
+    Variant {
+        name: "caustics_footprint_receiver.geom",
+        source: "caustics/caustics.geom",
+        defines: &["FOOTPRINT_POINTS", "FOOTPRINT_RECEIVER_TEST"],
+    },
+    Variant {
+        name: "caustics_footprint_receiver.frag",
+        source: "caustics/caustics.frag",
+        defines: &["FOOTPRINT_POINTS", "FOOTPRINT_RECEIVER_TEST"],
+    },
     // The caustic triangles with refinement at receivers' borders (effects.caustic_refinement):
     // the grid's draw hands cells on, the refinement draw casts them finer. Its own program,
     // since its stores need vertexPipelineStoresAndAtomics.

@@ -587,6 +587,10 @@ fn out_of_range_values_are_errors_naming_the_field_and_the_range() {
             "effects.caustic_refinement = true refines the triangle estimator's mesh: it needs effects.caustic_estimator = \"triangles\" (here \"paper\")",
         ),
         (
+            "[effects]\ncaustic_estimator = \"triangles\"\ncaustic_receiver_test = true\n",
+            "effects.caustic_receiver_test = true holds the footprint points' hats to their receivers: it needs effects.caustic_estimator = \"footprint\" (here \"triangles\")",
+        ),
+        (
             "[effects]\ngodray_method = \"footprint\"\ngodray_subdivision = 5\n",
             "effects.godray_subdivision = 5 is out of range for effects.godray_method = \"footprint\": must be <= 4",
         ),

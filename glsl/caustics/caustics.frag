@@ -5,7 +5,11 @@
 // Compiled again with FOOTPRINT_POINTS (caustics_footprint.frag) for the footprint-sized
 // points (caustics.geom), whose hats are any size and shape: each pixel takes its share of the
 // photon's hat (footprint_hat_share, shader_math.glsl), and the shares of neighbouring
-// photons sum to 1 however their lattice lies on the target.
+// photons sum to 1 however their lattice lies on the target. With FOOTPRINT_RECEIVER_TEST too
+// (caustics_footprint_receiver.frag, effects.caustic_receiver_test), a hat lights only the
+// pixels that show its receiver (footprint_pixel_on_receiver). Its own variant: on llvmpipe a
+// fragment shader that reads a texture at all costs a fifth to two fifths more of the pass,
+// whether or not its fragments take the read (docs/performance.md).
 
 // The paper's point carries only its irradiance besides its position and size: its depth is
 // the point's, and every such photon counts 1 in alpha. A footprint point's alpha is the
@@ -13,9 +17,16 @@
 layout(location = 0) flat in vec3 g_irradiance;
 #ifdef FOOTPRINT_POINTS
 #include "../shared/shader_math.glsl"
+#ifdef FOOTPRINT_RECEIVER_TEST
+#include "../shared/scene_depth.glsl"
+#endif
 // The hat on the target: its centre (pixels) and the inverse of its basis, whose columns are
 // the hat's edges (footprint_hat_basis); the point drawn for it covers its reach.
+#ifdef FOOTPRINT_RECEIVER_TEST
+layout(location = 1) flat in vec4 g_centre; // z, w: its receiver's plane (caustics.geom)
+#else
 layout(location = 1) flat in vec2 g_centre;
+#endif
 layout(location = 2) flat in vec4 g_to_lattice;
 #endif
 layout(location = 0) out vec4 out_irradiance;
@@ -25,7 +36,16 @@ void main() {
 #ifdef FOOTPRINT_POINTS
     // g_irradiance is the photon's light over its hat's area: the pixel's share of the hat
     // makes its part of the light.
-    float covered = footprint_hat_share(gl_FragCoord.xy, g_centre, mat2(g_to_lattice.xy, g_to_lattice.zw));
+    float covered = footprint_hat_share(gl_FragCoord.xy, g_centre.xy, mat2(g_to_lattice.xy, g_to_lattice.zw));
+#ifdef FOOTPRINT_RECEIVER_TEST
+    if (g_centre.z > 0.0) {
+        vec2 w_gradient = g_centre.z * unpackHalf2x16(floatBitsToUint(g_centre.w));
+        float w_scene = 1.0 / scene_view_depth(gl_FragCoord.xy / frame.caustic_target_size);
+        if (!footprint_pixel_on_receiver(gl_FragCoord.xy, g_centre.xy, g_centre.z, w_gradient, w_scene,
+                                         frame.caustic_target_size, frame.tan_half_fov_y))
+            covered = 0.0;
+    }
+#endif
     out_irradiance = vec4(g_irradiance * covered, covered);
 #else
     out_irradiance = vec4(g_irradiance, 1.0);

@@ -2,10 +2,12 @@
 // Caustics (method step 5): each coarse cell becomes SUBDIVISION² photons; each photon that
 // reaches a receiver is emitted as a point at the hit, carrying the irradiance estimate its
 // splat contributes (see docs/units.md). The paper's points are sized by the distance to the
-// viewer. Compiled four times (shaders::VARIANTS): as caustics.geom; as caustics_debug.geom
+// viewer. Compiled five times (shaders::VARIANTS): as caustics.geom; as caustics_debug.geom
 // with PHOTON_DEBUG, which records every photon's cast in a storage buffer for comparison
 // with the CPU twin; and both again with FOOTPRINT_POINTS (caustics_footprint.geom,
-// caustics_footprint_debug.geom), the footprint-sized points below.
+// caustics_footprint_debug.geom), the footprint-sized points below; and with FOOTPRINT_POINTS
+// and FOOTPRINT_RECEIVER_TEST as caustics_footprint_receiver.geom, which hands each point its
+// receiver's plane for the fragments' test (effects.caustic_receiver_test).
 #include "caustic_splat.glsl"
 
 #ifdef PHOTON_DEBUG
@@ -27,9 +29,19 @@ layout(constant_id = 0) const uint SUBDIVISION = 2;
 layout(push_constant) uniform GridPush { uint grid; } pc;
 
 layout(location = 0) flat in uvec2 v_cell[];
+#ifdef FOOTPRINT_RECEIVER_TEST
+// Only the built-in block's members these points write: the full block adds clip and cull
+// distances to every vertex's component count, 18 with the receiver's plane, where 16 fit
+// 64 points in the 1024 every geometry-shader device offers.
+out gl_PerVertex { vec4 gl_Position; float gl_PointSize; };
+#endif
 layout(location = 0) flat out vec3 g_irradiance; // irradiance / E_surface per covered pixel
-#ifdef FOOTPRINT_POINTS
+#ifdef FOOTPRINT_RECEIVER_TEST
+layout(location = 1) flat out vec4 g_centre;     // xy: on the target, pixels (caustics.frag); z, w: its receiver's plane
+#elif defined(FOOTPRINT_POINTS)
 layout(location = 1) flat out vec2 g_centre;     // on the target, pixels (caustics.frag)
+#endif
+#ifdef FOOTPRINT_POINTS
 layout(location = 2) flat out vec4 g_to_lattice; // its hat's inverse basis, columns: pixels to the hat's (s, t)
 #endif
 
@@ -68,17 +80,20 @@ uint record[MAX_PHOTONS]; // its records' index
 // receiver, was blocked or missed), the span to that neighbour's ray met with the photon's
 // receiver plane (neighbour_edge_on_plane); the other's where only one of these is found; and
 // where neither is (both neighbours' rays miss the water or run along the plane) its own ray
-// a grid step over (light_step_edge). False with none. Its grid has at least two photons per
+// a grid step over (light_step_edge). False with none. `both_on_receiver`: both neighbours
+// in the invocation landed on the photon's receiver. Its grid has at least two photons per
 // cell a side (CausticEstimator::min_subdivision), so a photon lies on one border of its
 // cell along an axis at most, and its neighbour on the other side is in the invocation: the
 // missing one's place in the light's window is the photon's mirrored from it (the view's
 // warp is smooth over two photons). A neighbour in the invocation gives its own place.
-bool footprint_edges(int k, int axis, int side, vec2 photons_per_axis, out vec3 before, out vec3 after) {
+bool footprint_edges(int k, int axis, int side, vec2 photons_per_axis, out vec3 before, out vec3 after,
+                     out bool both_on_receiver) {
     int along = axis == 0 ? k % side : k / side, step = axis == 0 ? 1 : side;
     bool a = along > 0 && seen[k - step] && on_one_receiver(hit[k], normal[k], hit[k - step], normal[k - step]);
     bool b = along + 1 < side && seen[k + step] && on_one_receiver(hit[k], normal[k], hit[k + step], normal[k + step]);
     before = a ? hit[k] - hit[k - step] : vec3(0.0);
     after = b ? hit[k + step] - hit[k] : vec3(0.0);
+    both_on_receiver = a && b;
     // The missing neighbours, before (-1) and after (+1), in one loop: each inlined copy of
     // neighbour_edge_on_plane carries a refraction and a surface evaluation.
     for (int dir = -1; dir <= 1; dir += 2) {
@@ -174,8 +189,13 @@ void main() {
         // footprint_edges carries a neighbour's refraction (neighbour_edge_on_plane).
         vec3 edges[4]; // before and after along u, then along v
         bool has_footprint = normal[k] != vec3(0.0);
-        for (int axis = 0; axis < 2 && has_footprint; ++axis)
-            has_footprint = footprint_edges(k, axis, side, vec2(photons_per_axis), edges[2 * axis], edges[2 * axis + 1]);
+        bool interior = has_footprint; // all four neighbours on the photon's receiver
+        for (int axis = 0; axis < 2 && has_footprint; ++axis) {
+            bool both;
+            has_footprint = footprint_edges(k, axis, side, vec2(photons_per_axis), edges[2 * axis], edges[2 * axis + 1],
+                                            both);
+            interior = interior && both;
+        }
         u = vec3[2](edges[0], edges[1]);
         v = vec3[2](edges[2], edges[3]);
         if (has_footprint) {
@@ -241,7 +261,30 @@ void main() {
         gl_Position.z = max(nearest, 0.0) * splat.clip.w;
         gl_PointSize = 2.0 * (across * shrink + samples_reach);
         g_irradiance = light / abs(determinant(basis));
-        g_centre = (splat.clip.xy / splat.clip.w * 0.5 + 0.5) * frame.caustic_target_size;
+        vec2 centre = (splat.clip.xy / splat.clip.w * 0.5 + 0.5) * frame.caustic_target_size;
+#ifdef FOOTPRINT_RECEIVER_TEST
+        // The receiver's plane for the fragments' test that their pixel shows it
+        // (footprint_pixel_on_receiver): its reciprocal view depth at the photon and, packed as
+        // two halves, that depth's gradient over the target's pixels over its value there, from
+        // two directions on the plane; a negative depth where the fragments take no test. A hat
+        // whose four neighbours all landed on its receiver spans that receiver and takes none
+        // (the same figures as testing every hat: docs/accuracy.md, "Hats on their own receiver").
+        float w_centre = 1.0 / clip.w;
+        vec2 w_gradient = vec2(0.0);
+        bool tested = normal[k] != vec3(0.0) && !interior;
+        if (tested) {
+            vec3 n = normal[k];
+            vec3 t1 = normalize(cross(n, abs(n.y) < 0.9 ? vec3(0.0, 1.0, 0.0) : vec3(1.0, 0.0, 0.0)));
+            vec3 t2 = cross(n, t1);
+            float dw1 = -(frame.camera_view_proj * vec4(t1, 0.0)).w * w_centre * w_centre;
+            float dw2 = -(frame.camera_view_proj * vec4(t2, 0.0)).w * w_centre * w_centre;
+            tested = footprint_receiver_plane(target_span(clip, t1), target_span(clip, t2), dw1, dw2, w_centre,
+                                              w_gradient);
+        }
+        g_centre = vec4(centre, tested ? w_centre : -1.0, uintBitsToFloat(packHalf2x16(w_gradient)));
+#else
+        g_centre = centre;
+#endif
         mat2 to_lattice = inverse(basis);
         g_to_lattice = vec4(to_lattice[0], to_lattice[1]);
         EmitVertex();

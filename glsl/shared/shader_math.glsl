@@ -481,6 +481,53 @@ float footprint_hat_share(vec2 pixel, vec2 centre, mat2 to_lattice) {
     }
     return sum / (FOOTPRINT_HAT_SAMPLES * FOOTPRINT_HAT_SAMPLES);
 }
+
+// Whether the pixel centred on `pixel` shows the receiver of the footprint point whose hat is
+// centred on `centre` (target pixels, `target_size` of them; the camera's vertical half-angle
+// tangent `tan_half_fov_y`, square pixels): the surface it shows (its reciprocal view depth
+// `w_scene`) lies off the receiver's plane by at most FOOTPRINT_RECEIVER_SLOPE of its distance
+// from the photon, on_one_receiver's test for the photons' neighbours (caustic_splat.glsl),
+// with a floor of FOOTPRINT_RECEIVER_DEPTH_SLACK of its depth for the depth buffer's steps.
+// A hat spans its cell on its receiver's plane, and where that plane runs past the receiver
+// (a rock's facet past its crease, a floor past a post's foot) the depth test passes
+// whatever lies behind: the hat's light went onto the floor beside a rock's silhouette, or
+// onto the neighbouring facet the light does not reach (docs/accuracy.md, "Hats on their own
+// receiver"). The plane is its reciprocal view depth, which is affine over the target's
+// pixels: `w_centre` at the hat's centre and `w_gradient` per pixel (footprint_receiver_plane).
+// Under the perspective, 1/z = A·x + B·y + C over NDC (x, y) is the plane n·P = c with
+// (A / tan_x, B / tan_y, C) = n / c, so the pixel's point P = r / w_scene (r = (x·tan_x,
+// y·tan_y, 1)) lies n·P − c = (w_plane / w_scene − 1) · c off it.
+// Compiled only into the variants that define FOOTPRINT_RECEIVER_TEST.
+#ifdef FOOTPRINT_RECEIVER_TEST
+const float FOOTPRINT_RECEIVER_SLOPE = 0.25;
+const float FOOTPRINT_RECEIVER_DEPTH_SLACK = 2e-3;
+bool footprint_pixel_on_receiver(vec2 pixel, vec2 centre, float w_centre, vec2 w_gradient, float w_scene,
+                                 vec2 target_size, float tan_half_fov_y) {
+    float w_plane = w_centre + dot(w_gradient, pixel - centre);
+    if (!(w_plane > 0.0) || !(w_scene > 0.0)) return false;
+    vec2 tan_half = vec2(tan_half_fov_y * target_size.x / target_size.y, tan_half_fov_y);
+    vec2 ndc_slope = w_gradient * 0.5 * target_size; // dw per NDC unit
+    float w_at_axis = w_centre + dot(w_gradient, 0.5 * target_size - centre);
+    float plane_distance = 1.0 / max(length(vec3(ndc_slope / tan_half, w_at_axis)), 1e-30); // c
+    vec3 ray = vec3((pixel / target_size * 2.0 - 1.0) * tan_half, 1.0);
+    vec3 photon_ray = vec3((centre / target_size * 2.0 - 1.0) * tan_half, 1.0);
+    float off_plane = abs(w_plane / w_scene - 1.0) * plane_distance;
+    float from_photon = length(ray / w_scene - photon_ray / w_centre);
+    return off_plane <= FOOTPRINT_RECEIVER_SLOPE * from_photon + FOOTPRINT_RECEIVER_DEPTH_SLACK / w_scene;
+}
+
+// The receiver plane's reciprocal view depth per target pixel, over its value at the photon
+// (footprint_pixel_on_receiver's `w_gradient` / `w_centre`), from two of the plane's
+// directions: their spans on the target `s1`, `s2` (pixels) and the changes `dw1`, `dw2` of
+// the reciprocal view depth along them. False where the plane is seen edge on.
+bool footprint_receiver_plane(vec2 s1, vec2 s2, float dw1, float dw2, float w_centre, out vec2 w_gradient) {
+    float det = s1.x * s2.y - s1.y * s2.x;
+    w_gradient = vec2(0.0);
+    if (!(abs(det) > 1e-6 * (dot(s1, s1) + dot(s2, s2)))) return false;
+    w_gradient = vec2(dw1 * s2.y - dw2 * s1.y, dw2 * s1.x - dw1 * s2.x) / (det * w_centre);
+    return true;
+}
+#endif // FOOTPRINT_RECEIVER_TEST
 #endif // FOOTPRINT_POINTS
 
 #endif

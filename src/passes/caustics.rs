@@ -230,15 +230,22 @@ impl CausticsPass {
             }
             PhotonPath::GeometryShader => {
                 // Recording, the footprint points record which of them were clamped.
-                let geometry = match (estimator == CausticEstimator::Footprint, record_photons) {
+                // Recording goes without the receiver test, which changes no photon's record.
+                let footprint = estimator == CausticEstimator::Footprint;
+                let receiver_test = footprint && effects.caustic_receiver_test && !record_photons;
+                let geometry = match (footprint, record_photons) {
+                    _ if receiver_test => "caustics_footprint_receiver.geom",
                     (true, true) => "caustics_footprint_debug.geom",
                     (true, false) => "caustics_footprint.geom",
                     (false, true) => "caustics_debug.geom",
                     (false, false) => "caustics.geom",
                 };
-                // The footprint points spread each rectangle by its tents (caustics.frag).
-                let fragment =
-                    if estimator == CausticEstimator::Footprint { "caustics_footprint.frag" } else { "caustics.frag" };
+                // The footprint points spread each photon's light by its hat (caustics.frag).
+                let fragment = match footprint {
+                    _ if receiver_test => "caustics_footprint_receiver.frag",
+                    true => "caustics_footprint.frag",
+                    false => "caustics.frag",
+                };
                 let desc = GraphicsPipelineDesc { fragment, ..points("photon_grid.vert", Some(geometry)) };
                 (shaders::graphics_pipeline(device, &desc)?, None, None)
             }

@@ -223,6 +223,7 @@ pub(super) struct EffectsFile {
     pub caustic_subdivision: Option<u32>,
     pub caustic_photon_density: Option<PhotonSpreadFile>,
     pub caustic_refinement: Option<bool>,
+    pub caustic_receiver_test: Option<bool>,
     pub photon_jitter: Option<bool>,
     // Ahead of the godray grid and subdivision: they are the beams' photons, which the
     // marched godrays do not use.
@@ -898,6 +899,7 @@ impl EffectsFile {
             filter: self.filter.unwrap_or(d.filter),
             photon_jitter: self.photon_jitter.unwrap_or(d.photon_jitter),
             caustic_refinement: self.caustic_refinement.unwrap_or(d.caustic_refinement),
+            caustic_receiver_test: self.caustic_receiver_test.unwrap_or(d.caustic_receiver_test),
             caustic_grid: int("caustic_grid", self.caustic_grid, d.caustic_grid, 1, 4096)?,
             // The geometry shaders' output limits (see shader_math).
             caustic_subdivision: int(
@@ -991,6 +993,15 @@ impl EffectsFile {
                 "effects.caustic_refinement",
                 format_args!(
                     "= true refines the triangle estimator's mesh: it needs effects.caustic_estimator = \"triangles\" (here \"{}\")",
+                    effects.caustic_estimator.name()
+                ),
+            ));
+        }
+        if effects.caustic_receiver_test && effects.caustic_estimator != CausticEstimator::Footprint {
+            return Err(ctx.error(
+                "effects.caustic_receiver_test",
+                format_args!(
+                    "= true holds the footprint points' hats to their receivers: it needs effects.caustic_estimator = \"footprint\" (here \"{}\")",
                     effects.caustic_estimator.name()
                 ),
             ));
@@ -1094,6 +1105,7 @@ impl Scene {
             caustic_subdivision: Some(e.caustic_subdivision),
             caustic_photon_density: Some(spread(e.caustic_photon_density)),
             caustic_refinement: Some(e.caustic_refinement),
+            caustic_receiver_test: Some(e.caustic_receiver_test),
             photon_jitter: Some(e.photon_jitter),
             godray_method: Some(match e.godray_method {
                 GodrayMethod::Beams => GodrayMethodFile::Beams,
