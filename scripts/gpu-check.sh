@@ -78,7 +78,7 @@ if [ "$mode" = quick ]; then
   sweep_axes=(--width 96 --height 60 --grid 24 --subdiv 3 --estimator footprint,triangles --filter on
     --photons 200000 --beams 50000)
 else
-  configs=paper-800,paper-1440,paper-1m-photons,paper-1440-high,footprint-points-800,triangles-800,refined-800
+  configs=paper-800,paper-1440,paper-1m-photons,paper-1440-high,footprint-points-800,receiver-800,triangles-800,refined-800
   godray_configs=triangles-800,footprint-800,marched-800
   # The scaling curves again from the shipped estimator (the ones above start from
   # paper-800): the footprint points' balance of coarse grid against subdivision (3 shipped,

@@ -21,6 +21,9 @@ pub struct BenchConfig {
     /// The triangles refined at receivers' borders (`effects.caustic_refinement`; off but
     /// in refined-800).
     pub caustic_refinement: bool,
+    /// The footprint points' hats held to their receivers (`effects.caustic_receiver_test`;
+    /// off but in receiver-800).
+    pub caustic_receiver_test: bool,
     /// The godray method (the paper's beams).
     pub godray_method: GodrayMethod,
     /// How both photon grids are spread: the paper's even grids, or `None` to keep the
@@ -52,6 +55,7 @@ pub fn configs() -> Vec<BenchConfig> {
         caustic_estimator: CausticEstimator::Paper,
         caustic_subdivision: None,
         caustic_refinement: false,
+        caustic_receiver_test: false,
         godray_method: GodrayMethod::Beams,
         // The paper casts on an even light-space grid; the view's warp came with the
         // triangles (docs/accuracy.md) and stays with the configurations that measure them.
@@ -74,6 +78,15 @@ pub fn configs() -> Vec<BenchConfig> {
         photon_density: None,
         paper_fps: "-",
         ..base.clone()
+    };
+    // Not in the paper: the footprint-sized points (photon differentials) as the built-in
+    // scenes ship them, 150² × 3² photons at about triangles-800's caustic pass, with its
+    // godrays (docs/accuracy.md, "Hats on the photons' lattice").
+    let footprint_points = BenchConfig {
+        name: "footprint-points-800",
+        caustic_estimator: CausticEstimator::Footprint,
+        caustic_grid: 150,
+        ..triangles.clone()
     };
     vec![
         BenchConfig { name: "paper-800", paper_fps: "> 110", ..base.clone() },
@@ -102,15 +115,10 @@ pub fn configs() -> Vec<BenchConfig> {
         // footprint points, at about paper-800's cost (docs/accuracy.md), with paper-800's
         // godrays.
         triangles.clone(),
-        // Not in the paper: the footprint-sized points (photon differentials) as the built-in
-        // scenes ship them, 150² × 3² photons at about triangles-800's caustic pass, with its
-        // godrays (docs/accuracy.md, "Hats on the photons' lattice").
-        BenchConfig {
-            name: "footprint-points-800",
-            caustic_estimator: CausticEstimator::Footprint,
-            caustic_grid: 150,
-            ..triangles.clone()
-        },
+        footprint_points.clone(),
+        // Not in the paper: footprint-points-800 with each hat held to the pixels that show its
+        // receiver (docs/accuracy.md, "Hats on their own receiver"; off as the scenes ship).
+        BenchConfig { name: "receiver-800", caustic_receiver_test: true, ..footprint_points },
         // Not in the paper: triangles-800 refined at receivers' borders, a second, indirect
         // draw of the cells on two receivers (docs/accuracy.md; off as the scenes ship).
         BenchConfig { name: "refined-800", caustic_refinement: true, ..triangles.clone() },
@@ -137,6 +145,7 @@ impl BenchConfig {
         e.godray_subdivision = self.subdivision;
         e.caustic_estimator = self.caustic_estimator;
         e.caustic_refinement = self.caustic_refinement;
+        e.caustic_receiver_test = self.caustic_receiver_test;
         e.godray_method = self.godray_method;
         if let Some(spread) = self.photon_density {
             e.caustic_photon_density = spread;
@@ -206,6 +215,10 @@ mod tests {
         );
         assert_eq!(measured.caustic_photon_density, shipped.caustic_photon_density);
         assert_eq!(measured.caustic_target_scale, shipped.caustic_target_scale);
+        assert!(!measured.caustic_receiver_test);
+        // receiver-800 is footprint-points-800 with the receiver test.
+        let receiver = c.iter().find(|c| c.name == "receiver-800").unwrap().apply(&tank);
+        assert_eq!(receiver.effects, Effects { caustic_receiver_test: true, ..footprint.effects });
         // The triangles' configurations keep their photons spread for the view, refined-800
         // refined.
         let triangles = c.iter().find(|c| c.name == "triangles-800").unwrap().apply(&tank);

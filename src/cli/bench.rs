@@ -14,7 +14,7 @@ pub(super) struct BenchArgs {
     /// Configurations to run, comma-separated: paper-800, paper-1440, paper-1m-photons,
     /// paper-1440-high, triangles-800 (the triangle caustic estimator as the scenes shipped it
     /// until the footprint points), footprint-points-800 (the footprint-sized points as the
-    /// scenes ship them), refined-800,
+    /// scenes ship them), receiver-800 (those with the receiver test), refined-800,
     /// marched-800 and footprint-800 (triangles-800 refined, with ray-marched godrays, with
     /// footprint-sized beams), above-800 (paper-800 seen from above the water), tiny; or
     /// "paper" for the paper's four.
