@@ -167,6 +167,13 @@ pub mod limits {
     /// geometry-shader device offers (the bound is derived in caustics_triangles.geom).
     pub const TRIANGLE_MAX_SUBDIVISION: u32 = 3;
 
+    /// Largest subdivision of the footprint points (GLSL `FOOTPRINT_MAX_SUBDIVISION`): each
+    /// photon's hat is a quad of 4 vertices of at most 15 components (with the receiver's
+    /// plane, caustics_footprint_receiver.geom), and 4 × 4² × 15 = 960 stays within the 1024
+    /// output components every geometry-shader device offers (`max_vertices = 64` in
+    /// caustics.geom).
+    pub const FOOTPRINT_MAX_SUBDIVISION: u32 = 4;
+
     /// Largest godray subdivision: each photon emits a 2-vertex line of 12 components, and
     /// 2 × 6² × 12 = 864 stays within the 1024 output components every geometry-shader device
     /// offers (`max_vertices = 72` in godrays.geom).
@@ -180,6 +187,7 @@ pub mod limits {
     pub const ALL: &[(&str, u32)] = &[
         ("MAX_SUBDIVISION", MAX_SUBDIVISION),
         ("TRIANGLE_MAX_SUBDIVISION", TRIANGLE_MAX_SUBDIVISION),
+        ("FOOTPRINT_MAX_SUBDIVISION", FOOTPRINT_MAX_SUBDIVISION),
         ("GODRAY_MAX_SUBDIVISION", GODRAY_MAX_SUBDIVISION),
         ("GODRAY_FOOTPRINT_MAX_SUBDIVISION", GODRAY_FOOTPRINT_MAX_SUBDIVISION),
     ];

@@ -6,7 +6,8 @@ use std::f32::consts::PI;
 
 /// The photon passes' subdivision bounds are part of the shader interface (`shader_abi::limits`).
 pub use crate::shader_abi::limits::{
-    GODRAY_FOOTPRINT_MAX_SUBDIVISION, GODRAY_MAX_SUBDIVISION, MAX_SUBDIVISION, TRIANGLE_MAX_SUBDIVISION,
+    FOOTPRINT_MAX_SUBDIVISION, GODRAY_FOOTPRINT_MAX_SUBDIVISION, GODRAY_MAX_SUBDIVISION, MAX_SUBDIVISION,
+    TRIANGLE_MAX_SUBDIVISION,
 };
 
 /// See `photon_grid_uv` in shader_math.glsl.
@@ -583,6 +584,24 @@ pub fn footprint_hat_share(pixel: Vec2, centre: Vec2, to_lattice: Mat2) -> f32 {
         }
     }
     sum / (FOOTPRINT_HAT_SAMPLES * FOOTPRINT_HAT_SAMPLES)
+}
+
+/// GLSL `footprint_hat_quad`: the half-edges (columns, target pixels) of the quad a footprint
+/// point's hat is drawn as, the hat's cell on the lattice of `basis` (inverse `to_lattice`)
+/// widened by `pixel_reach` times the pixel's extent in lattice units.
+pub fn footprint_hat_quad(basis: Mat2, to_lattice: Mat2, pixel_reach: f32) -> Mat2 {
+    let pixel_extent = Vec2::new(
+        to_lattice.x_axis.x.abs() + to_lattice.y_axis.x.abs(),
+        to_lattice.x_axis.y.abs() + to_lattice.y_axis.y.abs(),
+    );
+    let widen = Vec2::ONE + pixel_reach * pixel_extent;
+    Mat2::from_cols(basis.x_axis * widen.x, basis.y_axis * widen.y)
+}
+
+/// How far from its pixel's centre a footprint hat's farthest sample lies along each pixel
+/// axis, (S − 1) / 2S pixels (caustics.geom's `samples_reach`).
+pub fn footprint_hat_samples_reach() -> f32 {
+    0.5 - 0.5 / FOOTPRINT_HAT_SAMPLES
 }
 
 /// GLSL `FOOTPRINT_RECEIVER_SLOPE`: how far off a footprint point's receiver plane, per metre
@@ -1215,12 +1234,64 @@ mod tests {
         }
     }
 
+    /// The quad caustics.geom draws a hat as (footprint_hat_quad) holds every pixel the hat's
+    /// samples reach, and is a fraction of the square sprite the hat was drawn as before where
+    /// the hat is a long oblique sliver (docs/performance.md, "Footprint hats drawn as quads").
+    #[test]
+    fn a_footprint_hat_s_quad_holds_every_pixel_it_lights_and_a_sliver_s_is_a_fraction_of_its_sprite() {
+        let reach = footprint_hat_samples_reach();
+        // (spans as columns, the angle they are turned by): square, stretched, sheared, under a
+        // pixel, under the samples' spacing, and a sliver where the waves fold the light.
+        let lattices = [
+            (Mat2::from_cols(Vec2::new(2.3, 0.0), Vec2::new(0.0, 2.3)), 0.5),
+            (Mat2::from_cols(Vec2::new(4.0, 0.0), Vec2::new(0.0, 1.3)), 0.9),
+            (Mat2::from_cols(Vec2::new(2.0, 0.7), Vec2::new(-0.4, 1.6)), 2.1),
+            (Mat2::from_cols(Vec2::new(0.7, 0.0), Vec2::new(0.0, 0.55)), 0.3),
+            (Mat2::from_cols(Vec2::new(0.3, 0.1), Vec2::new(0.05, 0.2)), 1.0),
+            (Mat2::from_cols(Vec2::new(12.0, 0.0), Vec2::new(0.0, 0.2)), 0.8),
+        ];
+        let mut sliver_ratio = 0.0;
+        for (n, (spans, angle)) in lattices.into_iter().enumerate() {
+            let basis = footprint_hat_basis(Mat2::from_angle(angle) * spans);
+            let to_lattice = basis.inverse();
+            let quad = footprint_hat_quad(basis, to_lattice, reach);
+            let to_quad = quad.inverse();
+            let extent = basis.x_axis.abs() + basis.y_axis.abs();
+            for centre in [Vec2::new(20.5, 20.5), Vec2::new(20.13, 20.71), Vec2::new(20.9, 20.02)] {
+                let (mut lit, mut inside) = (0, 0);
+                for y in 0..41 {
+                    for x in 0..41 {
+                        let p = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+                        let in_quad = (to_quad * (p - centre)).abs().max_element() < 1.0;
+                        inside += in_quad as u32;
+                        if footprint_hat_share(p, centre, to_lattice) > 0.0 {
+                            lit += 1;
+                            assert!(in_quad, "lattice {n}: pixel {p} lit by the hat at {centre} lies outside its quad");
+                        }
+                    }
+                }
+                assert!(lit > 0, "lattice {n}: the hat at {centre} lit nothing");
+                // The quad is not the whole window either.
+                assert!(inside < 41 * 41 / 4, "lattice {n}: the quad holds {inside} pixels");
+            }
+            // The sprite the hat was drawn as before: a square as wide as its reach along the
+            // wider pixel axis, plus the samples' reach.
+            let sprite = (2.0 * (extent.max_element() + reach)).powi(2);
+            let quad_area = 4.0 * quad.determinant().abs();
+            if n == 5 {
+                sliver_ratio = quad_area / sprite;
+            }
+        }
+        // A 12 × 0.25-pixel sliver turned by 0.8 rad: its sprite is 17 pixels wide.
+        assert!(sliver_ratio < 0.15, "the sliver's quad covers {sliver_ratio} of its sprite");
+    }
+
     /// A lone hat keeps its light wherever it lies against the pixels: exactly when it is under
     /// the samples' spacing along the pixel axes (widened to it, its tents sum to one over the
     /// samples), and within a percent from 1.7 pixels across at any angle. Between, a lone hat
     /// is read coarsely (over 200 random offsets, a 0.6-pixel hat deposits 0.97–1.06 of its
     /// light, a tenth of a pixel turned by 0.7 rad 0.84–1.29); among its lattice's neighbours
-    /// the shares still sum to the light (the test above).
+    /// the shares still sum to the light (`footprint_hats_light_a_lattice_evenly_at_any_angle_and_scale`).
     #[test]
     fn footprint_hats_deposit_their_light() {
         for (size, angle, tolerance) in [(0.1f32, 0.0f32, 1e-4), (3.4, 0.0, 0.01), (1.7, 0.4, 0.01), (5.0, 1.1, 0.01)] {

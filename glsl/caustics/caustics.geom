@@ -24,16 +24,21 @@ layout(set = 0, binding = BINDING_PHOTON_DEBUG, std430) writeonly buffer PhotonD
 #endif
 
 layout(points) in;
+#ifdef FOOTPRINT_POINTS
+// Each footprint point's hat is drawn as a quad (below): 4 vertices × FOOTPRINT_MAX_SUBDIVISION².
+layout(triangle_strip, max_vertices = 64) out;
+#else
 layout(points, max_vertices = 64) out; // MAX_SUBDIVISION²
+#endif
 layout(constant_id = 0) const uint SUBDIVISION = 2;
 layout(push_constant) uniform GridPush { uint grid; } pc;
 
 layout(location = 0) flat in uvec2 v_cell[];
-#ifdef FOOTPRINT_RECEIVER_TEST
-// Only the built-in block's members these points write: the full block adds clip and cull
-// distances to every vertex's component count, 18 with the receiver's plane, where 16 fit
-// 64 points in the 1024 every geometry-shader device offers.
-out gl_PerVertex { vec4 gl_Position; float gl_PointSize; };
+#ifdef FOOTPRINT_POINTS
+// Only the built-in block's member the quads write: the full block adds point size and clip
+// and cull distances to every vertex's component count (15 with the receiver's plane, 64
+// vertices within the 1024 every geometry-shader device offers: shader_abi::limits).
+out gl_PerVertex { vec4 gl_Position; };
 #endif
 layout(location = 0) flat out vec3 g_irradiance; // irradiance / E_surface per covered pixel
 #ifdef FOOTPRINT_RECEIVER_TEST
@@ -57,10 +62,15 @@ layout(location = 2) flat out vec4 g_to_lattice; // its hat's inverse basis, col
 // to its neighbours projected (footprint_hat_basis and footprint_hat_share, shader_math.glsl):
 // neighbouring hats sum to 1 however the lattice is turned, so the footprints tile without
 // seams, overlaps or moiré, and the caustic between photons is their irradiance interpolated.
-// The point drawn covers the hat, within the device's largest point; the flux budget
-// (`render --flux-budget`) counts the photons that bound clamped. A photon whose ray runs
-// along its receiver takes the paper's size, which is bounded, as a square hat.
-const int MAX_PHOTONS = MAX_SUBDIVISION * MAX_SUBDIVISION;
+// The hat is drawn as a quad, the parallelogram of its lattice cell's four neighbours widened
+// by the reach of a pixel's samples: a point sprite would be a square around the hat, and
+// the hats are mostly long and oblique (slivers where the waves fold the light, cells
+// stretched along receivers seen at a slant), so at the scenes' own sizes five in six of a
+// sprite's fragments lay outside the hat and shaded nothing (docs/performance.md, "Footprint
+// hats drawn as quads"). Its size keeps the bound the sprites had, the device's largest point;
+// the flux budget (`render --flux-budget`) counts the photons that bound clamped. A photon
+// whose ray runs along its receiver takes the paper's size, which is bounded, as a square hat.
+const int MAX_PHOTONS = FOOTPRINT_MAX_SUBDIVISION * FOOTPRINT_MAX_SUBDIVISION;
 vec3 hit[MAX_PHOTONS];
 vec3 normal[MAX_PHOTONS]; // unit; zero where the light's normal map holds none
 vec3 flux[MAX_PHOTONS];   // transmitted and attenuated to the hit, W per channel
@@ -223,10 +233,10 @@ void main() {
             hat_u = 0.5 * (u[0] + u[1]);
             hat_v = 0.5 * (v[0] + v[1]);
         }
-        // The point drawn covers every pixel whose samples the hat reaches (its basis's reach
-        // along each pixel axis either side, and the samples' own reach from their pixel's
-        // centre, (S − 1) / 2S), within the device's largest point: a larger hat shrinks,
-        // brighter, keeping the photon's light.
+        // The hat's extent on the target (its basis's reach along each pixel axis either side,
+        // and the samples' own reach from their pixel's centre, (S − 1) / 2S) stays within the
+        // device's largest point, the sprites' bound: a larger hat shrinks, brighter, keeping
+        // the photon's light.
         mat2 basis = footprint_hat_basis(spans);
         vec2 reach = abs(basis[0]) + abs(basis[1]);
         float across = max(reach.x, reach.y);
@@ -257,10 +267,7 @@ void main() {
             vec4 at = frame.camera_view_proj * vec4(corner, 1.0);
             if (at.w > frame.z_near) nearest = min(nearest, at.z / at.w);
         }
-        gl_Position = splat.clip;
-        gl_Position.z = max(nearest, 0.0) * splat.clip.w;
-        gl_PointSize = 2.0 * (across * shrink + samples_reach);
-        g_irradiance = light / abs(determinant(basis));
+        vec3 irradiance = light / abs(determinant(basis));
         vec2 centre = (splat.clip.xy / splat.clip.w * 0.5 + 0.5) * frame.caustic_target_size;
 #ifdef FOOTPRINT_RECEIVER_TEST
         // The receiver's plane for the fragments' test that their pixel shows it
@@ -281,13 +288,26 @@ void main() {
             tested = footprint_receiver_plane(target_span(clip, t1), target_span(clip, t2), dw1, dw2, w_centre,
                                               w_gradient);
         }
-        g_centre = vec4(centre, tested ? w_centre : -1.0, uintBitsToFloat(packHalf2x16(w_gradient)));
+        vec4 hat_centre = vec4(centre, tested ? w_centre : -1.0, uintBitsToFloat(packHalf2x16(w_gradient)));
 #else
-        g_centre = centre;
+        vec2 hat_centre = centre;
 #endif
         mat2 to_lattice = inverse(basis);
-        g_to_lattice = vec4(to_lattice[0], to_lattice[1]);
-        EmitVertex();
+        // The quad: every pixel one of whose samples lies on the hat (|s|, |t| < 1) has its
+        // centre within the samples' reach of it, at most that reach times the pixel's extent
+        // along s and t further out in lattice units (footprint_hat_quad). In NDC at w = 1, the
+        // sprite's one depth at every corner.
+        mat2 corners = footprint_hat_quad(basis, to_lattice, samples_reach);
+        float depth = max(nearest, 0.0);
+        for (int c = 0; c < 4; ++c) {
+            vec2 corner = centre + ((c & 1) == 0 ? -corners[0] : corners[0]) + ((c & 2) == 0 ? -corners[1] : corners[1]);
+            gl_Position = vec4(corner / frame.caustic_target_size * 2.0 - 1.0, depth, 1.0);
+            g_irradiance = irradiance;
+            g_centre = hat_centre;
+            g_to_lattice = vec4(to_lattice[0], to_lattice[1]);
+            EmitVertex();
+        }
+        EndPrimitive();
     }
 }
 #else

@@ -5,8 +5,8 @@
 
 const float PI = 3.14159265358979;
 
-// MAX_SUBDIVISION, TRIANGLE_MAX_SUBDIVISION, GODRAY_MAX_SUBDIVISION and
-// GODRAY_FOOTPRINT_MAX_SUBDIVISION, the largest per-axis photon subdivision a geometry-shader
+// MAX_SUBDIVISION, TRIANGLE_MAX_SUBDIVISION, FOOTPRINT_MAX_SUBDIVISION, GODRAY_MAX_SUBDIVISION
+// and GODRAY_FOOTPRINT_MAX_SUBDIVISION, the largest per-axis photon subdivision a geometry-shader
 // invocation emits, are macros from shader_abi::limits
 // (their one definition). max_vertices must be a compile-time literal, so each shader is
 // compiled for its bound and the actual factor is a specialization constant the driver
@@ -480,6 +480,18 @@ float footprint_hat_share(vec2 pixel, vec2 centre, mat2 to_lattice) {
         }
     }
     return sum / (FOOTPRINT_HAT_SAMPLES * FOOTPRINT_HAT_SAMPLES);
+}
+
+// The quad a footprint point's hat is drawn as: its half-edges (columns, target pixels; the
+// corners are the hat's centre ± each). The hat's cell, |s|, |t| ≤ 1 on the lattice of
+// `basis` (inverse `to_lattice`), widened along s and t by `pixel_reach` (how far a pixel's
+// samples lie from its centre along each pixel axis, pixels) times the pixel's extent in
+// lattice units: a sample q within that reach of a pixel's centre p has s(p) = s(q) + ∂s·(p − q),
+// so every pixel one of whose samples lies on the hat has its centre inside the quad.
+mat2 footprint_hat_quad(mat2 basis, mat2 to_lattice, float pixel_reach) {
+    vec2 pixel_extent = vec2(abs(to_lattice[0].x) + abs(to_lattice[1].x), abs(to_lattice[0].y) + abs(to_lattice[1].y));
+    vec2 widen = 1.0 + pixel_reach * pixel_extent;
+    return mat2(basis[0] * widen.x, basis[1] * widen.y);
 }
 
 // Whether the pixel centred on `pixel` shows the receiver of the footprint point whose hat is

@@ -242,7 +242,7 @@ fn fit(points: &[(f64, f64)]) -> (f64, f64) {
 pub fn subdivision_series(estimator: CausticEstimator) -> Vec<u32> {
     match estimator {
         CausticEstimator::Triangles => vec![1, 2, 3],
-        CausticEstimator::Footprint => vec![2, 3, 4, 6, 8],
+        CausticEstimator::Footprint => vec![2, 3, 4],
         CausticEstimator::Paper => vec![1, 2, 4, 8],
     }
 }

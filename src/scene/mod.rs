@@ -152,7 +152,8 @@ impl CausticEstimator {
     pub fn max_subdivision(self) -> u32 {
         use crate::shader_abi::limits as l;
         match self {
-            CausticEstimator::Paper | CausticEstimator::Footprint => l::MAX_SUBDIVISION,
+            CausticEstimator::Paper => l::MAX_SUBDIVISION,
+            CausticEstimator::Footprint => l::FOOTPRINT_MAX_SUBDIVISION,
             CausticEstimator::Triangles => l::TRIANGLE_MAX_SUBDIVISION,
         }
     }
