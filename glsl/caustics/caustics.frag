@@ -21,7 +21,7 @@ layout(location = 0) flat in vec3 g_irradiance;
 #include "../shared/scene_depth.glsl"
 #endif
 // The hat on the target: its centre (pixels) and the inverse of its basis, whose columns are
-// the hat's edges (footprint_hat_basis); the point drawn for it covers its reach.
+// the hat's edges (footprint_hat_basis); the quad drawn for it covers its reach (caustics.geom).
 #ifdef FOOTPRINT_RECEIVER_TEST
 layout(location = 1) flat in vec4 g_centre; // z, w: its receiver's plane (caustics.geom)
 #else

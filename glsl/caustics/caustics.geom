@@ -62,8 +62,8 @@ layout(location = 2) flat out vec4 g_to_lattice; // its hat's inverse basis, col
 // to its neighbours projected (footprint_hat_basis and footprint_hat_share, shader_math.glsl):
 // neighbouring hats sum to 1 however the lattice is turned, so the footprints tile without
 // seams, overlaps or moiré, and the caustic between photons is their irradiance interpolated.
-// The hat is drawn as a quad, the parallelogram of its lattice cell's four neighbours widened
-// by the reach of a pixel's samples: a point sprite would be a square around the hat, and
+// The hat is drawn as a quad, the parallelogram its tent spans (out to its neighbours'
+// centres, |s|, |t| ≤ 1) widened by the reach of a pixel's samples: a point sprite would be a square around the hat, and
 // the hats are mostly long and oblique (slivers where the waves fold the light, cells
 // stretched along receivers seen at a slant), so at the scenes' own sizes five in six of a
 // sprite's fragments lay outside the hat and shaded nothing (docs/performance.md, "Footprint
