@@ -1135,6 +1135,16 @@ mod tests {
         }
     }
 
+    /// Photon lattices on the target for the hats' tests (spans as columns, the angle they are
+    /// turned by): square, stretched, sheared, under a pixel, under the samples' spacing.
+    const HAT_LATTICES: [(Mat2, f32); 5] = [
+        (Mat2::from_cols(Vec2::new(2.3, 0.0), Vec2::new(0.0, 2.3)), 0.5),
+        (Mat2::from_cols(Vec2::new(4.0, 0.0), Vec2::new(0.0, 1.3)), 0.9),
+        (Mat2::from_cols(Vec2::new(2.0, 0.7), Vec2::new(-0.4, 1.6)), 2.1),
+        (Mat2::from_cols(Vec2::new(0.7, 0.0), Vec2::new(0.0, 0.55)), 0.3),
+        (Mat2::from_cols(Vec2::new(0.3, 0.1), Vec2::new(0.05, 0.2)), 1.0),
+    ];
+
     /// Footprint points: the photons of a lattice however rotated, sheared or fine, each
     /// spreading its light by its hat (`footprint_hat_basis` of its spans, sampled by
     /// `footprint_hat_share`), light every pixel alike. Axis-aligned tents of each footprint's
@@ -1152,16 +1162,7 @@ mod tests {
             }
             out
         };
-        // (spans as columns, the angle they are turned by): square, stretched, sheared, under
-        // a pixel, under the samples' spacing.
-        let lattices = [
-            (Mat2::from_cols(Vec2::new(2.3, 0.0), Vec2::new(0.0, 2.3)), 0.5),
-            (Mat2::from_cols(Vec2::new(4.0, 0.0), Vec2::new(0.0, 1.3)), 0.9),
-            (Mat2::from_cols(Vec2::new(2.0, 0.7), Vec2::new(-0.4, 1.6)), 2.1),
-            (Mat2::from_cols(Vec2::new(0.7, 0.0), Vec2::new(0.0, 0.55)), 0.3),
-            (Mat2::from_cols(Vec2::new(0.3, 0.1), Vec2::new(0.05, 0.2)), 1.0),
-        ];
-        for (spans, angle) in lattices {
+        for (spans, angle) in HAT_LATTICES {
             let spans = Mat2::from_angle(angle) * spans;
             let basis = footprint_hat_basis(spans);
             let to_lattice = basis.inverse();
@@ -1240,18 +1241,10 @@ mod tests {
     #[test]
     fn a_footprint_hat_s_quad_holds_every_pixel_it_lights_and_a_sliver_s_is_a_fraction_of_its_sprite() {
         let reach = footprint_hat_samples_reach();
-        // (spans as columns, the angle they are turned by): square, stretched, sheared, under a
-        // pixel, under the samples' spacing, and a sliver where the waves fold the light.
-        let lattices = [
-            (Mat2::from_cols(Vec2::new(2.3, 0.0), Vec2::new(0.0, 2.3)), 0.5),
-            (Mat2::from_cols(Vec2::new(4.0, 0.0), Vec2::new(0.0, 1.3)), 0.9),
-            (Mat2::from_cols(Vec2::new(2.0, 0.7), Vec2::new(-0.4, 1.6)), 2.1),
-            (Mat2::from_cols(Vec2::new(0.7, 0.0), Vec2::new(0.0, 0.55)), 0.3),
-            (Mat2::from_cols(Vec2::new(0.3, 0.1), Vec2::new(0.05, 0.2)), 1.0),
-            (Mat2::from_cols(Vec2::new(12.0, 0.0), Vec2::new(0.0, 0.2)), 0.8),
-        ];
+        // HAT_LATTICES, and a sliver where the waves fold the light.
+        let sliver = (Mat2::from_cols(Vec2::new(12.0, 0.0), Vec2::new(0.0, 0.2)), 0.8);
         let mut sliver_ratio = 0.0;
-        for (n, (spans, angle)) in lattices.into_iter().enumerate() {
+        for (n, (spans, angle)) in HAT_LATTICES.into_iter().chain([sliver]).enumerate() {
             let basis = footprint_hat_basis(Mat2::from_angle(angle) * spans);
             let to_lattice = basis.inverse();
             let quad = footprint_hat_quad(basis, to_lattice, reach);
