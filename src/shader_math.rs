@@ -598,8 +598,8 @@ pub fn footprint_hat_quad(basis: Mat2, to_lattice: Mat2, pixel_reach: f32) -> Ma
     Mat2::from_cols(basis.x_axis * widen.x, basis.y_axis * widen.y)
 }
 
-/// How far from its pixel's centre a footprint hat's farthest sample lies along each pixel
-/// axis, (S − 1) / 2S pixels (caustics.geom's `samples_reach`).
+/// GLSL `footprint_hat_samples_reach`: how far from its pixel's centre a footprint hat's
+/// farthest sample lies along each pixel axis, (S − 1) / 2S pixels.
 pub fn footprint_hat_samples_reach() -> f32 {
     0.5 - 0.5 / FOOTPRINT_HAT_SAMPLES
 }

@@ -332,9 +332,9 @@ fn hats_held_to_their_receiver_keep_their_light_off_what_lies_behind() {
     // footprint point's hat no longer runs past a rock's outline onto the floor in its shadow
     // (docs/accuracy.md, "Hats on their own receiver"): the light in the reference's shadows,
     // 0.00036 of the buffer's without the test (default_settings_error_on_the_tank), reads
-    // 0.00025 with it, and the bound between them fails a test that lets every fragment
-    // through. The error (0.574 against the shipped 0.575), the flux (−0.4 %) and the holes
-    // (0.0003) keep default_settings_error_on_the_tank's bounds.
+    // 0.00025 with it (0.00024 since the hats are quads), and the bound between them fails a
+    // test that lets every fragment through. The error (0.574 against the shipped 0.575), the
+    // flux (−0.4 %) and the holes (0.0003) keep default_settings_error_on_the_tank's bounds.
     let mut scene = underlight::scene::load("tank").unwrap();
     scene.effects.caustic_receiver_test = true;
     let figures = caustic_figures(&[("tank 800×800, hats held to their receiver".to_string(), scene)]);

@@ -8,8 +8,9 @@
 // photons sum to 1 however their lattice lies on the target. With FOOTPRINT_RECEIVER_TEST too
 // (caustics_footprint_receiver.frag, effects.caustic_receiver_test), a hat lights only the
 // pixels that show its receiver (footprint_pixel_on_receiver). Its own variant: on llvmpipe a
-// fragment shader that reads a texture at all costs a fifth to two fifths more of the pass,
-// whether or not its fragments take the read (docs/performance.md).
+// fragment shader that reads a texture at all costs more of the pass whether or not its
+// fragments take the read, 1.03–1.29× since the hats are quads (1.12–1.49× as sprites;
+// docs/performance.md, "Footprint hats drawn as quads").
 
 // The paper's point carries only its irradiance besides its position and size: its depth is
 // the point's, and every such photon counts 1 in alpha. A footprint point's alpha is the

@@ -240,7 +240,7 @@ void main() {
         mat2 basis = footprint_hat_basis(spans);
         vec2 reach = abs(basis[0]) + abs(basis[1]);
         float across = max(reach.x, reach.y);
-        float samples_reach = 0.5 - 0.5 / FOOTPRINT_HAT_SAMPLES;
+        float samples_reach = footprint_hat_samples_reach();
         float shrink = across + samples_reach > 0.5 * largest ? (0.5 * largest - samples_reach) / across : 1.0;
         basis *= shrink;
         bool clamped = footprint > 0.0 && shrink < 1.0;

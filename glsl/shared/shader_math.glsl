@@ -482,6 +482,12 @@ float footprint_hat_share(vec2 pixel, vec2 centre, mat2 to_lattice) {
     return sum / (FOOTPRINT_HAT_SAMPLES * FOOTPRINT_HAT_SAMPLES);
 }
 
+// How far from its pixel's centre a footprint hat's farthest sample lies along each pixel
+// axis, (S − 1) / 2S pixels.
+float footprint_hat_samples_reach() {
+    return 0.5 - 0.5 / FOOTPRINT_HAT_SAMPLES;
+}
+
 // The quad a footprint point's hat is drawn as: its half-edges (columns, target pixels; the
 // corners are the hat's centre ± each). The hat's cell, |s|, |t| ≤ 1 on the lattice of
 // `basis` (inverse `to_lattice`), widened along s and t by `pixel_reach` (how far a pixel's

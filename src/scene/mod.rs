@@ -305,7 +305,8 @@ pub struct Effects {
     /// off its plane by at most a quarter of its distance from the photon), so that a hat does
     /// not run past a receiver's outline onto what lies behind (caustics.frag,
     /// FOOTPRINT_RECEIVER_TEST; docs/accuracy.md, "Hats on their own receiver"). Needs the
-    /// footprint points; on lavapipe it costs a fifth to two fifths more of the caustic pass.
+    /// footprint points; on lavapipe it costs 1.03–1.29× the caustic pass (docs/performance.md,
+    /// "Footprint hats drawn as quads").
     pub caustic_receiver_test: bool,
 }
 
