@@ -36,10 +36,10 @@ while [ $# -gt 0 ]; do
 done
 
 scenes=(tank port storage)
-# The shipped settings (assets/scenes/*.toml [effects]: footprint points, 150² × 3²) as sweep
+# The shipped settings (assets/scenes/*.toml [effects]: footprint points, 165² × 3²) as sweep
 # axes, and the size the accuracy tables in docs/accuracy.md use; beside them the triangles
 # with the same photons, whose mesh is the other geometry-shader estimator.
-sweep_axes=(--width 320 --height 200 --grid 150 --subdiv 3 --estimator footprint,triangles --filter on)
+sweep_axes=(--width 320 --height 200 --grid 165 --subdiv 3 --estimator footprint,triangles --filter on)
 
 if [ "$mode" = prepare ]; then
   cargo build --release

@@ -90,7 +90,7 @@ fn viewer_sessions_under_xvfb() {
     };
     let rows = [
         row("footprint", 48, 3, 1.172),
-        row("footprint", 150, 3, 0.662),
+        row("footprint", 165, 3, 0.662),
         row("triangles", 100, 3, 0.905),
         row("paper", 200, 2, 1.519),
     ];
@@ -110,7 +110,7 @@ fn viewer_sessions_under_xvfb() {
     ]);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.contains("presented 15 frames"), "{stdout}");
-    assert!(stdout.contains("est. error 0.66 (sweep: footprint 150² × 3²)"), "no error estimate in:\n{stdout}");
+    assert!(stdout.contains("est. error 0.66 (sweep: footprint 165² × 3²)"), "no error estimate in:\n{stdout}");
     // The estimator step switched to the next after the one the tank ships, in the viewer's
     // order (CausticEstimator::ALL's).
     let shipped = underlight::scene::load("tank").unwrap().effects.caustic_estimator;

@@ -80,12 +80,13 @@ pub fn configs() -> Vec<BenchConfig> {
         ..base.clone()
     };
     // Not in the paper: the footprint-sized points (photon differentials) as the built-in
-    // scenes ship them, 150² × 3² photons at about triangles-800's caustic pass, with its
-    // godrays (docs/accuracy.md, "Hats on the photons' lattice").
+    // scenes ship them, 165² × 3² photons, their hats drawn as quads, with triangles-800's
+    // godrays (docs/accuracy.md, "Hats on the photons' lattice"; docs/performance.md,
+    // "Footprint hats drawn as quads").
     let footprint_points = BenchConfig {
         name: "footprint-points-800",
         caustic_estimator: CausticEstimator::Footprint,
-        caustic_grid: 150,
+        caustic_grid: 165,
         ..triangles.clone()
     };
     vec![

@@ -123,10 +123,12 @@ const MEDIUM: MediumFile = MediumFile { gamma: Some(Gamma::Uniform(0.13)), scatt
 /// The comment on the built-in scenes' `[effects]`: toml's serializer writes no comments, so it
 /// goes in under the table's header.
 const EFFECTS_COMMENT: &str = "\
-# Footprint-sized points at about the GPU cost of the warped-cell triangles at 100² x 3², which
-# they beat on every built-in scene (docs/accuracy.md, \"Hats on the photons' lattice\");
-# caustic_estimator = \"triangles\" with caustic_grid = 100 restores those, \"paper\" the paper's
-# points. Their photons and the godray beams are spread as the view needs them;
+# Footprint-sized points, which beat the warped-cell triangles at 100² x 3² on every built-in
+# scene (docs/accuracy.md, \"Hats on the photons' lattice\"): 165² x 3² photons, their hats
+# drawn as quads, at about the cost of the 150² drawn as sprites that the scenes shipped
+# before (docs/performance.md, \"Footprint hats drawn as quads\"). caustic_estimator =
+# \"triangles\" with caustic_grid = 100 restores those, \"paper\" the paper's points.
+# The photons and the godray beams are spread as the view needs them;
 # caustic_photon_density and godray_photon_density = \"even\" are the paper's even grids.
 # The caustics are drawn at the output's resolution (caustic_target_scale = 1): a smaller
 # target blurs the caustic network and leaves it soft at every edge (docs/accuracy.md, \"Edges\").
@@ -213,7 +215,7 @@ impl SceneSpec {
             medium: Some(MEDIUM),
             effects: Some(EffectsFile {
                 caustic_estimator: Some(CausticEstimatorFile::Footprint),
-                caustic_grid: Some(150),
+                caustic_grid: Some(165),
                 caustic_subdivision: Some(3),
                 caustic_target_scale: Some(1.0),
                 caustic_photon_density: Some(PhotonSpreadFile::View),
