@@ -194,9 +194,10 @@ fn footprint_points_report_the_footprints_the_device_clamped() {
     // effects.caustic_estimator = "footprint": each point is as large as its photon's cell on
     // its receiver, up to the device's largest point. The flux budget records the points
     // that bound clamped (record code FOOTPRINT_CLAMPED), with their photons still landed.
-    // With the tank's shipped 150² × 3² photons at 160×100 only a few on the walls the camera
-    // grazes reach it (measured on lavapipe, whose largest point is 255 px: 257 of 191 303,
-    // 0.47 % of the light, with each point covering its hat's reach; at 100² × 3² 17 of
+    // With the tank's shipped 165² × 3² photons at 160×100 only a few on the walls the camera
+    // grazes reach it (measured on lavapipe, whose largest point is 255 px: 318 of 230 802,
+    // 0.39 % of the light, with each hat covering its reach; 257 of 191 303, 0.47 %, at the
+    // 150² × 3² shipped until 2026-12-07; at 100² × 3² 17 of
     // 85 054, 0.09 %, with the rectangles before the hats); a 1×1 grid of 2 × 2 photons gives each a quarter of the pool, larger than
     // any point (2 of the 4 that land, 32 % of the light).
     let ctx = validated_context();

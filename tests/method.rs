@@ -982,13 +982,13 @@ fn the_shipped_estimator_resolves_a_cusp_pair_two_centimetres_apart() {
     // A sinusoidal wave a little past its first fold: each trough focuses the sun into two
     // fold caustics 2 cm apart on the floor 2 m down (a = 3.85 cm, λ = 0.8 m), with three
     // sheets of light between them. The paper's 5 px points merged such a pair into one peak
-    // 23 % too low (issue 16). The shipped estimator (footprint points 150² × 3², photons
+    // 23 % too low (issue 16). The shipped estimator (footprint points 165² × 3², photons
     // spread for the view) must show two peaks, each within 10 % of the exact pixel-averaged
     // profile. Their footprints shrink where the folds focus the light, so the hats that
     // spread them stay under a pixel there. Measured on lavapipe (2026-12-06): the folds
     // 1.9 cm apart, peaks −8.0 % and −8.0 % from the exact profile, a tenth of each fold's
     // light a pixel outside it, where the hats' samples, a quarter of a pixel apart, read the
-    // fold (at 160² × 3² the same; −10.3 % with three samples per axis, which failed; +1.0 %
+    // fold (at 150² and 160² × 3² the same; −10.3 % with three samples per axis, which failed; +1.0 %
     // and +7.1 % with the tenth session's tents along the pixel axes, integrated exactly).
     // The minimum between the peaks lies well below both. The paper's points (200² × 2²,
     // 5–20 px) fail: one blurred hump, its peaks at −49 %.
