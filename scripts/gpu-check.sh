@@ -92,6 +92,11 @@ start=$(date +%s)
 "$bin" devices | tee "$out/devices.txt"
 echo "== bench: $configs, every photon path, scaling"
 "$bin" bench --config "$configs" "${frames[@]}" --compare-paths --scaling --json "$out/bench.json" | tee "$out/bench.txt"
+# The work behind those times, per pass and shader stage (pipeline statistics), in a run of
+# its own: on some GPUs the queries serialise the passes, so the timed runs go without.
+echo "== bench: $configs, every photon path, each pass's work per stage"
+"$bin" bench --config "$configs" --frames 1 --warmup 1 --compare-paths --pipeline-statistics \
+  --json "$out/bench-work.json" | tee "$out/bench-work.txt"
 if [ -n "$godray_configs" ]; then
   echo "== bench: the godray methods, $godray_configs"
   "$bin" bench --config "$godray_configs" "${frames[@]}" --json "$out/bench-godrays.json" | tee "$out/bench-godrays.txt"
@@ -113,6 +118,8 @@ seconds=$(( $(date +%s) - start ))
   printf '{\n  "seconds": %d,\n  "devices": %s,\n  "bench": ' "$seconds" \
     "$(sed 's/\\/\\\\/g; s/"/\\"/g' "$out/devices.txt" | awk 'BEGIN{printf "\""} {printf "%s\\n", $0} END{printf "\""}')"
   cat "$out/bench.json"
+  printf ',\n  "work": '
+  cat "$out/bench-work.json"
   if [ -n "$godray_configs" ]; then
     printf ',\n  "godray_methods": '
     cat "$out/bench-godrays.json"
@@ -143,6 +150,12 @@ seconds=$(( $(date +%s) - start ))
   echo
   echo '```'
   cat "$out/bench.txt"
+  echo '```'
+  echo
+  echo "## Each pass's work per shader stage"
+  echo
+  echo '```'
+  cat "$out/bench-work.txt"
   echo '```'
   if [ -n "$godray_configs" ]; then
     echo

@@ -178,7 +178,7 @@ impl GridSplatRenderer {
     pub fn new(device: &Arc<Device>, extent: vk::Extent2D, settings: GridSplatSettings) -> Result<Self> {
         let pass = GridSplatPass::new(device, extent, settings, vk::ImageLayout::TRANSFER_SRC_OPTIMAL)?;
         let readback = Readback::new(device, &pass.target.image)?;
-        let ring = FrameRing::new(device)?;
+        let ring = FrameRing::new(device, false)?;
         Ok(Self { pass, readback, ring })
     }
 

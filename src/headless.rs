@@ -115,7 +115,7 @@ impl SceneRenderer {
         options: FrameOptions,
     ) -> Result<Self> {
         let frame = Frame::new(device, scene, output, vk::ImageLayout::TRANSFER_SRC_OPTIMAL, options)?;
-        let ring = FrameRing::new(device)?;
+        let ring = FrameRing::new(device, options.pipeline_statistics)?;
         let output = Readback::new(device, &frame.compose.output.image)?;
         let scene_color = Readback::new(device, &frame.scene_pass.color)?;
         let albedo_transmittance = Readback::new(device, &frame.scene_pass.albedo_transmittance)?;

@@ -1,7 +1,15 @@
 //! `underlight bench` on a tiny configuration: every pass of the frame reports a positive
 //! GPU time, the total covers the passes, and the JSON and CSV parse and name the device.
+//! And the pipeline statistics the bench and `render` print, under validation.
 
+mod common;
+
+use common::{assert_clean_shutdown, validated_context};
 use std::process::Command;
+use underlight::frame::FrameOptions;
+use underlight::headless::SceneRenderer;
+use underlight::passes::PassId;
+use underlight::vk::vk;
 
 #[test]
 fn bench_smoke_reports_every_pass() {
@@ -57,20 +65,25 @@ fn bench_smoke_reports_every_pass() {
 
 /// `--compare-paths` runs every photon path on the same configuration, reports its times and
 /// how its buffers differ from the geometry shader's; the peers that draw the same points
-/// (vertex-only, the splat floor) report no difference, the compute path a small one.
+/// (vertex-only, the splat floor) report no difference, the compute path a small one. With
+/// `--pipeline-statistics` each path's caustic pass also says which stages did its work:
+/// the geometry shader once per coarse cell, the vertex shader once per photon, the compute
+/// shader at least once per photon, and only the geometry-shader path's geometry stage.
 #[test]
 fn bench_compares_the_photon_paths() {
     let dir = std::env::temp_dir().join(format!("underlight-bench-paths-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let json = dir.join("p.json");
     let out = Command::new(env!("CARGO_BIN_EXE_underlight"))
-        .args(["bench", "--config", "tiny", "--frames", "3", "--warmup", "1", "--compare-paths", "--json"])
+        .args(["bench", "--config", "tiny", "--frames", "3", "--warmup", "1", "--compare-paths"])
+        .args(["--pipeline-statistics", "--json"])
         .arg(&json)
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.contains("photon paths against the geometry shader"), "{stdout}");
+    assert!(stdout.contains("work per pass, last measured frame (pipeline statistics), tiny"), "{stdout}");
     let doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let results = doc["report"]["results"].as_array().unwrap();
     let paths: Vec<&str> = results.iter().map(|r| r["photon_path"].as_str().unwrap()).collect();
@@ -78,6 +91,31 @@ fn bench_compares_the_photon_paths() {
     for r in results {
         let caustics = r["passes"].as_array().unwrap().iter().find(|p| p["pass"] == "caustics").unwrap();
         assert!(caustics["median_ms"].as_f64().unwrap() > 0.0, "{r}");
+        // Every timed pass was counted, and the caustic pass's work sits in its path's stages.
+        let counted = r["stage_counts"].as_array().unwrap();
+        assert_eq!(counted.len(), r["passes"].as_array().unwrap().len(), "{r}");
+        let work = &counted.iter().find(|c| c["pass"] == "caustics").unwrap()["counts"];
+        let count = |stage: &str| work[stage].as_u64().unwrap();
+        let (grid, photons) = (r["config"]["caustic_grid"].as_u64().unwrap(), r["caustic_photons"].as_u64().unwrap());
+        assert!(count("fragment_invocations") > 0, "{work}");
+        match r["photon_path"].as_str().unwrap() {
+            "GeometryShader" => {
+                assert_eq!(count("geometry_invocations"), grid * grid, "one invocation per coarse cell: {work}");
+                let emitted = count("geometry_primitives");
+                assert!(emitted > 0 && emitted <= photons, "one point per landed photon at most: {work}");
+                assert_eq!(count("compute_invocations"), 0, "{work}");
+            }
+            "VertexOnly" | "SplatFloor" => {
+                assert_eq!(count("geometry_invocations"), 0, "{work}");
+                assert!(count("vertex_invocations") >= photons, "a vertex per photon: {work}");
+                assert_eq!(count("compute_invocations"), 0, "{work}");
+            }
+            "Compute" => {
+                assert_eq!(count("geometry_invocations"), 0, "{work}");
+                assert!(count("compute_invocations") >= photons, "an invocation per photon: {work}");
+            }
+            other => panic!("unknown path {other}"),
+        }
         let (c, g) = (&r["caustic_difference"], &r["godray_difference"]);
         match r["photon_path"].as_str().unwrap() {
             "GeometryShader" => assert!(c.is_null() && g.is_null()),
@@ -96,4 +134,52 @@ fn bench_compares_the_photon_paths() {
         }
     }
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Pipeline statistics under validation, on the built-in tank as it ships (footprint points,
+/// each hat a strip of two triangles): every pass is counted in every frame, the caustic
+/// pass's geometry shader runs once per coarse cell and emits whole quads, at most one per
+/// photon, and its work is the same in two frames of the same scene. Without the option no
+/// pass is counted (no query pool: the frame records what it did before).
+#[test]
+fn pipeline_statistics_count_every_pass_s_work() {
+    let ctx = validated_context();
+    let mut scene = underlight::scene::load("tank").unwrap();
+    scene.effects.caustic_grid = 40; // 120² photons: a small frame's worth
+    let extent = vk::Extent2D { width: 160, height: 100 };
+    let options = FrameOptions { pipeline_statistics: true, ..Default::default() };
+    let mut renderer = SceneRenderer::with_options(&ctx.device, &scene, extent, options).unwrap();
+    let (timings, _) = renderer.render(2, 1.0, 0.0, false).unwrap();
+    let plan = renderer.frame.plan.passes.clone();
+    drop(renderer);
+    assert_eq!(timings.len(), 2);
+    for t in &timings {
+        assert_eq!(t.counts.len(), t.passes.len(), "every pass counted: {t:?}");
+        assert!(t.counts.iter().all(|c| c.compute_invocations == 0), "no compute on the geometry-shader path: {t:?}");
+        for id in &plan {
+            let c = t.counts(*id).unwrap_or_else(|| panic!("{} not counted", id.name()));
+            if matches!(id, PassId::Shadow | PassId::Scene | PassId::Caustics | PassId::Godrays | PassId::Compose) {
+                assert!(c.fragment_invocations > 0, "{} shaded no fragment: {c:?}", id.name());
+            }
+        }
+        let caustics = t.counts(PassId::Caustics).unwrap();
+        let (grid, subdivision) = (scene.effects.caustic_grid as u64, scene.effects.caustic_subdivision as u64);
+        assert_eq!(caustics.geometry_invocations, grid * grid, "one invocation per coarse cell: {caustics:?}");
+        let photons = (grid * subdivision).pow(2);
+        let emitted = caustics.geometry_primitives;
+        assert!(emitted % 2 == 0, "each hat is a strip of two triangles: {caustics:?}");
+        // Most of the tank's photons land where the camera sees them (a broken cast or a hat
+        // that is never emitted would leave far fewer).
+        assert!(emitted / 2 <= photons && emitted / 2 > photons / 3, "{} hats of {photons} photons", emitted / 2);
+    }
+    assert_eq!(
+        timings[0].counts(PassId::Caustics).unwrap().geometry_primitives,
+        timings[1].counts(PassId::Caustics).unwrap().geometry_primitives,
+        "the same frame twice, the same hats"
+    );
+    let mut plain = SceneRenderer::new(&ctx.device, &scene, extent).unwrap();
+    let (timings, _) = plain.render(1, 1.0, 0.0, false).unwrap();
+    drop(plain);
+    assert!(timings[0].counts.is_empty() && !timings[0].passes.is_empty());
+    assert_clean_shutdown(ctx);
 }

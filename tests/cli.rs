@@ -169,3 +169,34 @@ fn tune_picks_a_setting_or_says_how_close_it_came() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `render --pipeline-statistics` prints each pass's work per stage after the times: the
+/// built-in tank's caustic pass runs its geometry shader once per coarse cell of the scene's
+/// grid and shades fragments.
+#[test]
+fn render_prints_each_pass_s_work() {
+    let dir = std::env::temp_dir().join(format!("underlight-statistics-{}", std::process::id()));
+    let out = dir.join("out.png");
+    let o = Command::new(env!("CARGO_BIN_EXE_underlight"))
+        .args(["render", "--width", "64", "--height", "40", "--frames", "1", "--pipeline-statistics", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{stdout}{}", String::from_utf8_lossy(&o.stderr));
+    let table = stdout.split("work per pass, last frame (pipeline statistics):").nth(1).expect("no statistics table");
+    let header: Vec<&str> = table.lines().nth(1).unwrap().split_whitespace().collect();
+    assert_eq!(header, ["pass", "VS", "GS", "GS", "prims", "clip", "prims", "FS", "CS"]);
+    let row: Vec<u64> = table
+        .lines()
+        .find(|l| l.starts_with("caustics"))
+        .expect("no caustics row")
+        .split_whitespace()
+        .skip(1)
+        .map(|v| v.parse().unwrap())
+        .collect();
+    let grid = underlight::scene::load("tank").unwrap().effects.caustic_grid as u64;
+    assert_eq!(row[1], grid * grid, "geometry-shader invocations: {table}");
+    assert!(row[2] > 0 && row[4] > 0, "primitives emitted and fragments shaded: {table}");
+    std::fs::remove_dir_all(&dir).ok();
+}

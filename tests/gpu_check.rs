@@ -41,6 +41,14 @@ fn gpu_check_quick_writes_its_json_and_markdown() {
         assert!(l1 <= limit, "{}: caustic L1 {l1} against the geometry shader's", r["photon_path"]);
     }
     assert_eq!(doc["bench"]["scaling"].as_array().unwrap().len(), 6);
+    // The same configuration's work per pass and stage, every path: the geometry shader's
+    // caustic pass runs once per coarse cell.
+    let work = doc["work"]["report"]["results"].as_array().unwrap();
+    assert_eq!(work.len(), 4);
+    let counts =
+        &work[0]["stage_counts"].as_array().unwrap().iter().find(|c| c["pass"] == "caustics").unwrap()["counts"];
+    let grid = work[0]["config"]["caustic_grid"].as_u64().unwrap();
+    assert_eq!(counts["geometry_invocations"].as_u64().unwrap(), grid * grid, "{counts}");
 
     // The accuracy step: the shipped estimator on the tank against its reference. At 24² × 3²
     // photons and 96×60 the error is large, but light must land where the reference has it

@@ -47,7 +47,7 @@ fn sync_hazard_is_caught_and_names_its_pass() {
         vk::ImageUsageFlags::TRANSFER_DST,
     )
     .unwrap();
-    let mut ring = FrameRing::new(dev).unwrap();
+    let mut ring = FrameRing::new(dev, false).unwrap();
     let slot = ring.begin().unwrap();
     let cmd = slot.cmd;
     slot.timer.pass(cmd, PassId::Filter, |cmd| unsafe {

@@ -12,6 +12,7 @@ use crate::passes::PassId;
 use crate::passes::PhotonPath;
 use crate::scene::{CausticEstimator, Scene};
 use crate::vk::device::Device;
+use crate::vk::statistics::StageCounts;
 use anyhow::{bail, Result};
 use ash::vk;
 use serde::Serialize;
@@ -44,6 +45,16 @@ pub struct BenchResult {
     pub godray_difference: Option<BufferDifference>,
     /// The device memory of this configuration's frame: every target and buffer, and the peak.
     pub memory: FrameMemory,
+    /// With `--pipeline-statistics`: each pass's work per shader stage in the last measured
+    /// frame, in the frame's order (empty without, or on a device without the queries).
+    pub stage_counts: Vec<PassCounts>,
+}
+
+/// One pass's work per shader stage (pipeline statistics).
+#[derive(Clone, Debug, Serialize)]
+pub struct PassCounts {
+    pub pass: String,
+    pub counts: StageCounts,
 }
 
 /// How a photon buffer differs from a reference one.
@@ -87,8 +98,9 @@ pub fn run_config(
     frames: u32,
     warmup: u32,
     path: PhotonPath,
+    statistics: bool,
 ) -> Result<BenchResult> {
-    Ok(measure(device, scene, config, frames, warmup, path, false)?.0)
+    Ok(measure(device, scene, config, frames, warmup, path, false, statistics)?.0)
 }
 
 /// Every photon path on `config`, the geometry shader's first: each one's times and how
@@ -101,6 +113,7 @@ pub fn compare_paths(
     config: &BenchConfig,
     frames: u32,
     warmup: u32,
+    statistics: bool,
 ) -> Result<Vec<BenchResult>> {
     let mut out: Vec<BenchResult> = Vec::new();
     let mut reference: Option<[Option<HdrImage>; 2]> = None;
@@ -122,7 +135,7 @@ pub fn compare_paths(
             continue;
         }
         eprintln!("  {} path…", path.name());
-        let (mut result, buffers) = measure(device, scene, config, frames, warmup, path, true)?;
+        let (mut result, buffers) = measure(device, scene, config, frames, warmup, path, true, statistics)?;
         let buffers = buffers.expect("measure reads the buffers back when asked");
         match &reference {
             None => reference = Some(buffers),
@@ -142,6 +155,7 @@ pub fn compare_paths(
 
 /// `run_config`, and with `read_buffers` one more frame at time 0 whose unfiltered caustic
 /// and godray buffers are read back (outside the measured frames).
+#[allow(clippy::too_many_arguments)]
 fn measure(
     device: &Arc<Device>,
     scene: &Scene,
@@ -150,6 +164,7 @@ fn measure(
     warmup: u32,
     path: PhotonPath,
     read_buffers: bool,
+    statistics: bool,
 ) -> Result<(BenchResult, Option<[Option<HdrImage>; 2]>)> {
     if frames == 0 {
         bail!("--frames must be at least 1");
@@ -158,7 +173,7 @@ fn measure(
     let warmup = if path == PhotonPath::SplatFloor { warmup.max(1) } else { warmup };
     let s = config.apply(scene);
     let extent = vk::Extent2D { width: config.width, height: config.height };
-    let options = FrameOptions { photon_path: path, ..Default::default() };
+    let options = FrameOptions { photon_path: path, pipeline_statistics: statistics, ..Default::default() };
     let before = memory::allocations(device);
     let mut renderer = SceneRenderer::with_options(device, &s, extent, options)?;
     let created = FrameMemory::since(device, &before, 0);
@@ -175,6 +190,12 @@ fn measure(
         }
     }
     let totals = measured.iter().map(|t| t.total_ms()).collect();
+    let stage_counts = measured
+        .last()
+        .map(|t| t.passes.iter().zip(&t.counts).map(|((id, _), c)| PassCounts { pass: id.name().into(), counts: *c }))
+        .into_iter()
+        .flatten()
+        .collect();
     let n = |grid: u32, subdivision: u32| (grid as u64 * subdivision as u64).pow(2);
     let caustic_subdivision = config.caustic_subdivision.unwrap_or(config.subdivision);
     let buffers = if read_buffers {
@@ -205,6 +226,7 @@ fn measure(
         caustic_difference: None,
         godray_difference: None,
         memory,
+        stage_counts,
     };
     Ok((result, buffers))
 }
@@ -321,7 +343,7 @@ pub fn scaling(
         for f in factors {
             let mut c = base.clone();
             vary(&mut c, f);
-            let r = run_config(device, scene, &c, frames, warmup, PhotonPath::GeometryShader)?;
+            let r = run_config(device, scene, &c, frames, warmup, PhotonPath::GeometryShader, false)?;
             let ms = r.passes.iter().find(|p| p.pass == pass).map(|p| p.median_ms).unwrap_or(0.0);
             points.push((measure(&c), ms));
         }

@@ -13,6 +13,6 @@ mod report;
 
 pub use configs::{configs, move_camera_above_water, BenchConfig};
 pub use measure::{
-    buffer_difference, compare_paths, run_config, scaling, BenchResult, BufferDifference, PassStats, Series,
+    buffer_difference, compare_paths, run_config, scaling, BenchResult, BufferDifference, PassCounts, PassStats, Series,
 };
 pub use report::{scaling_table, BenchReport};

@@ -57,12 +57,28 @@ impl BenchReport {
             out.push_str(&self.paths_table());
         }
         out.push_str(&self.memory_table());
+        out.push_str(&self.counts_table());
         out
     }
 
     /// Device memory per configuration: the total and the peak of each run, then every target
     /// and buffer of the first run of each configuration (the other photon paths differ only
     /// in their own buffers, which their totals show).
+    /// Each configuration's work per pass and shader stage (`--pipeline-statistics`).
+    fn counts_table(&self) -> String {
+        let mut out = String::new();
+        for r in self.results.iter().filter(|r| !r.stage_counts.is_empty()) {
+            let _ = writeln!(
+                out,
+                "\nwork per pass, last measured frame (pipeline statistics), {} ({}):\n{}",
+                r.config.name,
+                r.photon_path.name(),
+                crate::vk::statistics::counts_table(r.stage_counts.iter().map(|c| (c.pass.as_str(), c.counts)))
+            );
+        }
+        out
+    }
+
     fn memory_table(&self) -> String {
         let mib = |bytes: u64| bytes as f64 / (1024.0 * 1024.0);
         let mut out = String::from(

@@ -35,6 +35,13 @@ pub(super) struct BenchArgs {
     /// and line width (from the first configuration), and fit the cost per unit.
     #[arg(long)]
     scaling: bool,
+    /// Also count each pass's work per shader stage in the last measured frame (vertex,
+    /// geometry-shader invocations and primitives, clipped primitives, fragments, compute
+    /// invocations) with pipeline-statistics queries: the work a pass asks of any device,
+    /// beside the time it took on this one. Off by default: on some GPUs the queries
+    /// serialise the passes they bracket.
+    #[arg(long)]
+    pipeline_statistics: bool,
     /// Also write the results as JSON / CSV.
     #[arg(long)]
     json: Option<PathBuf>,
@@ -78,6 +85,12 @@ pub(super) fn run(cli: &Cli, args: &BenchArgs) -> Result<i32> {
     let mut desc = context_desc(cli);
     desc.validation = false;
     let ctx = Context::new(&desc)?;
+    if args.pipeline_statistics && !ctx.device.has_pipeline_statistics() {
+        bail!(
+            "--pipeline-statistics: {} offers no pipeline-statistics queries (pipelineStatisticsQuery)",
+            ctx.device.info.name
+        );
+    }
     let info = &ctx.device.info;
     let mut report = bench::BenchReport {
         device: info.name.clone(),
@@ -88,7 +101,14 @@ pub(super) fn run(cli: &Cli, args: &BenchArgs) -> Result<i32> {
         eprintln!("{}: {}×{}, {} warm-up + {} frames…", c.name, c.width, c.height, args.warmup, args.frames);
         use underlight::passes::PhotonPath;
         if args.compare_paths {
-            report.results.extend(bench::compare_paths(&ctx.device, &scene, c, args.frames, args.warmup)?);
+            report.results.extend(bench::compare_paths(
+                &ctx.device,
+                &scene,
+                c,
+                args.frames,
+                args.warmup,
+                args.pipeline_statistics,
+            )?);
         } else {
             report.results.push(bench::run_config(
                 &ctx.device,
@@ -97,6 +117,7 @@ pub(super) fn run(cli: &Cli, args: &BenchArgs) -> Result<i32> {
                 args.frames,
                 args.warmup,
                 PhotonPath::GeometryShader,
+                args.pipeline_statistics,
             )?);
         }
     }

@@ -47,6 +47,11 @@ pub(super) struct SceneArgs {
     /// triangles); for the beams, the share of their length in view.
     #[arg(long)]
     flux_budget: bool,
+    /// Also print each pass's work per shader stage in the last frame (pipeline-statistics
+    /// queries): vertex and geometry-shader invocations, the primitives the geometry shaders
+    /// emitted and that reached the rasteriser, fragments shaded, compute invocations.
+    #[arg(long)]
+    pipeline_statistics: bool,
     /// Put the camera here instead of the scene's position, e.g. `0.3,1.5,0.2` (above the
     /// water the surface reflects and refracts).
     #[arg(long, value_name = "X,Y,Z", value_delimiter = ',', allow_hyphen_values = true)]
@@ -123,9 +128,17 @@ pub(super) fn run(cli: &Cli, args: &SceneArgs) -> Result<i32> {
     }
     let ctx = Context::new(&context_desc(cli))?;
     println!("device: {}", ctx.device.info.describe());
+    if args.pipeline_statistics && !ctx.device.has_pipeline_statistics() {
+        bail!(
+            "--pipeline-statistics: {} offers no pipeline-statistics queries (pipelineStatisticsQuery)",
+            ctx.device.info.name
+        );
+    }
     let extent = vk::Extent2D { width, height };
     let (timings, images) = {
-        let mut renderer = headless::SceneRenderer::new(&ctx.device, &scene, extent)?;
+        let options =
+            underlight::frame::FrameOptions { pipeline_statistics: args.pipeline_statistics, ..Default::default() };
+        let mut renderer = headless::SceneRenderer::with_options(&ctx.device, &scene, extent, options)?;
         for note in &renderer.frame.clamped {
             eprintln!("warning: {note}");
         }
@@ -207,6 +220,13 @@ pub(super) fn run(cli: &Cli, args: &SceneArgs) -> Result<i32> {
         }
     }
     println!("\nmedian over {} frames:\n{}", timings.len(), headless::median_timings(&timings));
+    if let Some(last) = timings.last().filter(|t| !t.counts.is_empty()) {
+        let rows = last.passes.iter().zip(&last.counts).map(|((id, _), c)| (id.name(), *c));
+        println!(
+            "\nwork per pass, last frame (pipeline statistics):\n{}",
+            underlight::vk::statistics::counts_table(rows)
+        );
+    }
     if args.flux_budget {
         print_flux_budget(&ctx, &scene, extent, args.time)?;
     }

@@ -337,6 +337,9 @@ pub struct FrameOptions {
     /// The camera may move anywhere between frames (the viewer): passes for both sides of the
     /// water are created (`FramePlan::new`).
     pub camera_moves: bool,
+    /// Each pass also counts its work per shader stage (pipeline-statistics queries, where the
+    /// device has them): `bench` and `render --pipeline-statistics`.
+    pub pipeline_statistics: bool,
 }
 
 /// Filter kernel radii, pixels of each buffer. The caustic radius is about half the paper's

@@ -237,7 +237,7 @@ impl Live {
         let ctx = Context::new(&desc)?;
         // SAFETY: the window outlives the surface (`Live` drops the GPU state first).
         let surface = unsafe { Surface::new(&ctx.device, display, handle)? };
-        let ring = FrameRing::new(&ctx.device)?;
+        let ring = FrameRing::new(&ctx.device, false)?;
         let present = PresentPass::new(&ctx.device);
         println!("device: {}", ctx.device.info.describe());
         println!("{}", input::KEYS_HELP);

@@ -81,7 +81,9 @@ pub struct FrameRing<P> {
 }
 
 impl<P: TimedPass> FrameRing<P> {
-    pub fn new(device: &Arc<Device>) -> Result<Self> {
+    /// `statistics`: each frame's passes also count their work per shader stage (a mode that
+    /// asks for it; `PassTimings::counts`).
+    pub fn new(device: &Arc<Device>, statistics: bool) -> Result<Self> {
         let mut slots = Vec::with_capacity(FRAMES_IN_FLIGHT);
         for i in 0..FRAMES_IN_FLIGHT {
             let pool_info = vk::CommandPoolCreateInfo::default().queue_family_index(device.queue_family);
@@ -102,7 +104,8 @@ impl<P: TimedPass> FrameRing<P> {
                     return Err(e).call("vkCreateFence");
                 }
             };
-            let timer = match PassTimer::new(device, &format!("frame {i} timestamps"), MAX_PASSES_PER_FRAME) {
+            let timer = match PassTimer::new(device, &format!("frame {i} timestamps"), MAX_PASSES_PER_FRAME, statistics)
+            {
                 Ok(t) => t,
                 Err(e) => {
                     unsafe {

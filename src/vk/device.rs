@@ -164,6 +164,9 @@ impl Device {
             shader_clip_distance: vk::TRUE,
             // Optional: lets the caustics pass record every photon for tests and debugging.
             vertex_pipeline_stores_and_atomics: info.capabilities.features.vertex_pipeline_stores_and_atomics,
+            // Optional: per-pass counts of each stage's work, where a mode asks for them
+            // (`bench` and `render --pipeline-statistics`).
+            pipeline_statistics_query: info.capabilities.features.pipeline_statistics_query,
             ..Default::default()
         };
         let mut f13 = vk::PhysicalDeviceVulkan13Features::default().synchronization2(true);
@@ -221,6 +224,11 @@ impl Device {
     /// Whether geometry shaders may write storage buffers (the photon debug records).
     pub fn has_pipeline_stores(&self) -> bool {
         self.info.capabilities.features.vertex_pipeline_stores_and_atomics == vk::TRUE
+    }
+
+    /// Whether passes can count their stages' work with pipeline-statistics queries.
+    pub fn has_pipeline_statistics(&self) -> bool {
+        self.info.capabilities.features.pipeline_statistics_query == vk::TRUE
     }
 
     /// Whether shaders may add floats atomically into storage buffers (the compute photon path).

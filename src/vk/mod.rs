@@ -12,6 +12,7 @@ pub mod pipeline;
 pub mod readback;
 pub mod render_pass;
 pub mod sampler;
+pub mod statistics;
 pub mod swapchain;
 pub mod timing;
 pub mod upload;

@@ -5,11 +5,15 @@
 //! messages and in GPU debuggers are the same. Each frame in flight owns its own query pool;
 //! results are read only after that frame's fence has signalled, so reading never stalls.
 //!
+//! Asked for, the timer also counts each pass's work per shader stage with a
+//! pipeline-statistics query (`statistics.rs`), read with the times.
+//!
 //! The backend knows no pass of the method: a timed pass is anything with a label
 //! ([`TimedPass`]); the method's `passes::PassId` is one, and `frame::PassTimings` the table
 //! of its times.
 
 use super::device::Device;
+use super::statistics::{StageCounts, StatisticsPool};
 use crate::error::{Result, VkResultExt};
 use ash::vk;
 use std::ffi::CStr;
@@ -25,21 +29,28 @@ pub trait TimedPass: Copy + Eq + Ord + fmt::Debug + 'static {
     }
 }
 
-/// GPU milliseconds per pass of one frame, in recording order.
+/// GPU milliseconds per pass of one frame, in recording order, and where the timer counts
+/// them, each pass's work per shader stage (`counts[i]` is `passes[i]`'s; empty otherwise).
 #[derive(Clone, Debug)]
 pub struct PassTimings<P> {
     pub passes: Vec<(P, f64)>,
+    pub counts: Vec<StageCounts>,
 }
 
 impl<P> Default for PassTimings<P> {
     fn default() -> Self {
-        Self { passes: Vec::new() }
+        Self { passes: Vec::new(), counts: Vec::new() }
     }
 }
 
 impl<P: TimedPass> PassTimings<P> {
     pub fn get(&self, id: P) -> Option<f64> {
         self.passes.iter().find(|(p, _)| *p == id).map(|(_, ms)| *ms)
+    }
+
+    /// The pass's work per shader stage, where the timer counted it.
+    pub fn counts(&self, id: P) -> Option<StageCounts> {
+        self.passes.iter().zip(&self.counts).find(|((p, _), _)| *p == id).map(|(_, c)| *c)
     }
 
     /// Sum of the passes (not the frame's wall time: gaps between passes are excluded).
@@ -68,15 +79,29 @@ pub struct PassTimer<P> {
     results: Vec<[u64; 2]>,
     valid_mask: u64,
     ns_per_tick: f64,
+    /// With `statistics` asked for on a device that has them: query i counts pass i.
+    statistics: Option<StatisticsPool>,
     device: Arc<Device>,
 }
 
 impl<P: TimedPass> PassTimer<P> {
-    pub fn new(device: &Arc<Device>, name: &str, capacity_passes: u32) -> Result<Self> {
+    /// `statistics`: also count each pass's work per stage (where the device can).
+    pub fn new(device: &Arc<Device>, name: &str, capacity_passes: u32, statistics: bool) -> Result<Self> {
         let info =
             vk::QueryPoolCreateInfo::default().query_type(vk::QueryType::TIMESTAMP).query_count(capacity_passes * 2);
         let pool = unsafe { device.raw.create_query_pool(&info, None) }.call("vkCreateQueryPool")?;
         device.set_name(pool, name);
+        let statistics = if statistics {
+            match StatisticsPool::new(device, &format!("{name}, statistics"), capacity_passes) {
+                Ok(s) => s,
+                Err(e) => {
+                    unsafe { device.raw.destroy_query_pool(pool, None) };
+                    return Err(e);
+                }
+            }
+        } else {
+            None
+        };
         let bits = device.info.capabilities.graphics_timestamp_valid_bits.unwrap_or(64);
         Ok(Self {
             pool,
@@ -85,6 +110,7 @@ impl<P: TimedPass> PassTimer<P> {
             results: vec![[0; 2]; capacity_passes as usize * 2],
             valid_mask: timestamp_mask(bits),
             ns_per_tick: device.limits().timestamp_period as f64,
+            statistics,
             device: device.clone(),
         })
     }
@@ -93,6 +119,14 @@ impl<P: TimedPass> PassTimer<P> {
     pub fn begin_frame(&mut self, cmd: vk::CommandBuffer) {
         self.recorded.clear();
         unsafe { self.device.raw.cmd_reset_query_pool(cmd, self.pool, 0, self.capacity_passes * 2) };
+        if let Some(statistics) = &self.statistics {
+            statistics.reset(cmd);
+        }
+    }
+
+    /// Whether this timer counts each pass's work per stage.
+    pub fn counts_stages(&self) -> bool {
+        self.statistics.is_some()
     }
 
     /// Records one pass: label, begin timestamp, the pass itself, end timestamp.
@@ -109,16 +143,22 @@ impl<P: TimedPass> PassTimer<P> {
         // synchronization validation does not), so the pass is also declared as the phase.
         dev.set_phase(id.name());
         unsafe { dev.raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::TOP_OF_PIPE, self.pool, 2 * index) };
+        if let Some(statistics) = &self.statistics {
+            statistics.begin(cmd, index);
+        }
         let r = record(cmd);
+        if let Some(statistics) = &self.statistics {
+            statistics.end(cmd, index);
+        }
         unsafe { dev.raw.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::BOTTOM_OF_PIPE, self.pool, 2 * index + 1) };
         dev.end_label(cmd);
         dev.set_phase("recording, between passes");
         r
     }
 
-    /// Reads the frame's timings into `out`. Call only after the frame's fence signalled.
-    /// Returns false (leaving `out` untouched) when the frame recorded no pass or a result is
-    /// not available.
+    /// Reads the frame's timings (and counts) into `out`. Call only after the frame's fence
+    /// signalled. Returns false when the frame recorded no pass or a result is not available
+    /// (`out`'s times then untouched).
     pub fn read(&mut self, out: &mut PassTimings<P>) -> Result<bool> {
         let n = self.recorded.len();
         if n == 0 {
@@ -137,6 +177,14 @@ impl<P: TimedPass> PassTimer<P> {
         .call("vkGetQueryPoolResults")?;
         if results.iter().any(|r| r[1] == 0) {
             return Ok(false);
+        }
+        match &mut self.statistics {
+            Some(statistics) => {
+                if !statistics.read(n, &mut out.counts)? {
+                    return Ok(false);
+                }
+            }
+            None => out.counts.clear(),
         }
         out.passes.clear();
         for (i, id) in self.recorded.iter().enumerate() {
