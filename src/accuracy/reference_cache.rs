@@ -6,6 +6,7 @@ use crate::image_io::{read_pfm, write_pfm};
 use crate::passes::PassId;
 use crate::reference::{ReferenceImages, ReferenceSettings};
 use crate::scene::Scene;
+use crate::shader_math::NoiseTexture;
 use anyhow::{Context as _, Result};
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
@@ -19,10 +20,18 @@ fn fnv1a(bytes: &[u8], mut h: u64) -> u64 {
     h
 }
 
-/// What the reference depends on: geometry, camera, light, water, medium, which effects
-/// exist, the target sizes, the time and the reference's own settings. Not the method's
-/// settings (grids, iterations, point sizes, filter): a sweep over those reuses one reference.
-fn reference_key(scene: &Scene, extents: &FrameExtents, time: f32, settings: &ReferenceSettings) -> String {
+/// What the reference depends on: geometry, camera, light, water (its parameters and the
+/// noise texture's texels, which are code, not scene: a change to the texture must not hand
+/// back buffers traced over the old water), medium, which effects exist, the target sizes,
+/// the time and the reference's own settings. Not the method's settings (grids, iterations,
+/// point sizes, filter): a sweep over those reuses one reference.
+fn reference_key(
+    scene: &Scene,
+    extents: &FrameExtents,
+    time: f32,
+    settings: &ReferenceSettings,
+    noise: &NoiseTexture,
+) -> String {
     let mut h = 0xcbf2_9ce4_8422_2325u64;
     let e = &scene.effects;
     let text = format!(
@@ -41,6 +50,8 @@ fn reference_key(scene: &Scene, extents: &FrameExtents, time: f32, settings: &Re
     );
     h = fnv1a(text.as_bytes(), h);
     h = fnv1a(&settings.seed.to_le_bytes(), h);
+    h = fnv1a(&noise.size.to_le_bytes(), h);
+    h = fnv1a(bytemuck::cast_slice(&noise.texels), h);
     for m in &scene.meshes {
         h = fnv1a(bytemuck::cast_slice(&m.positions), h);
         h = fnv1a(bytemuck::cast_slice(&m.indices), h);
@@ -98,7 +109,7 @@ pub fn cached_reference(
     settings: &ReferenceSettings,
     cache_dir: &Path,
 ) -> Result<ReferenceImages> {
-    let dir = cache_dir.join(reference_key(scene, extents, time, settings));
+    let dir = cache_dir.join(reference_key(scene, extents, time, settings, &NoiseTexture::generate()));
     let (caustics, caustics_half, godrays) =
         (dir.join("caustics.pfm"), dir.join("caustics_half.pfm"), dir.join("godrays.pfm"));
     let want = |on: bool, p: &Path| !on || p.exists();
@@ -126,4 +137,23 @@ pub fn cached_reference(
     }
     std::fs::write(dir.join("done"), b"")?;
     Ok(images)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_key_follows_the_water_s_noise_texels() {
+        let scene = crate::scene::load("tank").unwrap();
+        let extents = crate::frame::target_extents(&scene, [64, 40], 64.0, 8.0);
+        let settings = ReferenceSettings { caustic_photons: 1000, godray_beams: 100, threads: 1, seed: 1 };
+        let noise = NoiseTexture::generate();
+        let key = reference_key(&scene, &extents, 1.0, &settings, &noise);
+        assert_eq!(key, reference_key(&scene, &extents, 1.0, &settings, &noise.clone()));
+        let mut changed = noise.clone();
+        changed.texels[77][1] += 1e-3;
+        assert_ne!(key, reference_key(&scene, &extents, 1.0, &settings, &changed), "one texel's gradient changed");
+        assert_ne!(key, reference_key(&scene, &extents, 2.0, &settings, &noise), "another time");
+    }
 }
