@@ -13,6 +13,7 @@
 //! when asked, and brackets each pass with one query, as it does with its timestamps.
 
 use super::device::Device;
+use super::timing::read_available;
 use crate::error::{Result, VkResultExt};
 use ash::vk;
 use serde::Serialize;
@@ -128,17 +129,7 @@ impl StatisticsPool {
     /// while one is not available. Call only after the frame's fence signalled.
     pub fn read(&mut self, n: usize, out: &mut Vec<StageCounts>) -> Result<bool> {
         let results = &mut self.results[..n];
-        unsafe {
-            self.device.raw.get_query_pool_results(
-                self.pool,
-                0,
-                results,
-                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WITH_AVAILABILITY,
-            )
-        }
-        .or_else(|e| if e == vk::Result::NOT_READY { Ok(()) } else { Err(e) })
-        .call("vkGetQueryPoolResults")?;
-        if results.iter().any(|r| r[VALUES - 1] == 0) {
+        if !read_available(&self.device, self.pool, results)? {
             return Ok(false);
         }
         out.clear();

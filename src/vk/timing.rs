@@ -165,17 +165,7 @@ impl<P: TimedPass> PassTimer<P> {
             return Ok(false);
         }
         let results = &mut self.results[..2 * n];
-        unsafe {
-            self.device.raw.get_query_pool_results(
-                self.pool,
-                0,
-                results,
-                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WITH_AVAILABILITY,
-            )
-        }
-        .or_else(|e| if e == vk::Result::NOT_READY { Ok(()) } else { Err(e) })
-        .call("vkGetQueryPoolResults")?;
-        if results.iter().any(|r| r[1] == 0) {
+        if !read_available(&self.device, self.pool, results)? {
             return Ok(false);
         }
         match &mut self.statistics {
@@ -199,6 +189,27 @@ impl<P> Drop for PassTimer<P> {
     fn drop(&mut self) {
         unsafe { self.device.raw.destroy_query_pool(self.pool, None) };
     }
+}
+
+/// Reads the first `results.len()` queries of `pool`, each as its values followed by its
+/// availability word (64-bit); true when every one was available. Never waits: call after
+/// the fence of the frame that wrote them.
+pub(super) fn read_available<const N: usize>(
+    device: &Device,
+    pool: vk::QueryPool,
+    results: &mut [[u64; N]],
+) -> Result<bool> {
+    unsafe {
+        device.raw.get_query_pool_results(
+            pool,
+            0,
+            results,
+            vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WITH_AVAILABILITY,
+        )
+    }
+    .or_else(|e| if e == vk::Result::NOT_READY { Ok(()) } else { Err(e) })
+    .call("vkGetQueryPoolResults")?;
+    Ok(results.iter().all(|r| r[N - 1] != 0))
 }
 
 /// The mask of the bits a timestamp actually holds (`timestampValidBits`).
