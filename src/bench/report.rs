@@ -61,9 +61,6 @@ impl BenchReport {
         out
     }
 
-    /// Device memory per configuration: the total and the peak of each run, then every target
-    /// and buffer of the first run of each configuration (the other photon paths differ only
-    /// in their own buffers, which their totals show).
     /// Each configuration's work per pass and shader stage (`--pipeline-statistics`).
     fn counts_table(&self) -> String {
         let mut out = String::new();
@@ -79,6 +76,9 @@ impl BenchReport {
         out
     }
 
+    /// Device memory per configuration: the total and the peak of each run, then every target
+    /// and buffer of the first run of each configuration (the other photon paths differ only
+    /// in their own buffers, which their totals show).
     fn memory_table(&self) -> String {
         let mib = |bytes: u64| bytes as f64 / (1024.0 * 1024.0);
         let mut out = String::from(

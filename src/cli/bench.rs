@@ -85,11 +85,8 @@ pub(super) fn run(cli: &Cli, args: &BenchArgs) -> Result<i32> {
     let mut desc = context_desc(cli);
     desc.validation = false;
     let ctx = Context::new(&desc)?;
-    if args.pipeline_statistics && !ctx.device.has_pipeline_statistics() {
-        bail!(
-            "--pipeline-statistics: {} offers no pipeline-statistics queries (pipelineStatisticsQuery)",
-            ctx.device.info.name
-        );
+    if args.pipeline_statistics {
+        super::require_pipeline_statistics(&ctx)?;
     }
     let info = &ctx.device.info;
     let mut report = bench::BenchReport {

@@ -217,6 +217,17 @@ fn prepare_output_dir(dir: &std::path::Path) -> Result<()> {
     writable_folder(dir, "output folder")
 }
 
+/// `--pipeline-statistics` on a device that cannot count: a named error before any rendering.
+fn require_pipeline_statistics(ctx: &Context) -> Result<()> {
+    if !ctx.device.has_pipeline_statistics() {
+        anyhow::bail!(
+            "--pipeline-statistics: {} offers no pipeline-statistics queries (pipelineStatisticsQuery)",
+            ctx.device.info.name
+        );
+    }
+    Ok(())
+}
+
 fn finish(ctx: Context) -> i32 {
     let report = ctx.shutdown();
     if report.is_clean() {

@@ -128,11 +128,8 @@ pub(super) fn run(cli: &Cli, args: &SceneArgs) -> Result<i32> {
     }
     let ctx = Context::new(&context_desc(cli))?;
     println!("device: {}", ctx.device.info.describe());
-    if args.pipeline_statistics && !ctx.device.has_pipeline_statistics() {
-        bail!(
-            "--pipeline-statistics: {} offers no pipeline-statistics queries (pipelineStatisticsQuery)",
-            ctx.device.info.name
-        );
+    if args.pipeline_statistics {
+        super::require_pipeline_statistics(&ctx)?;
     }
     let extent = vk::Extent2D { width, height };
     let (timings, images) = {
