@@ -67,9 +67,10 @@ layout(location = 2) flat out vec4 g_to_lattice; // its hat's inverse basis, col
 // a square around the hat, and the hats are mostly long and oblique (slivers where the waves
 // fold the light, cells stretched along receivers seen at a slant), so at the scenes' own
 // sizes five in six of a sprite's fragments lay outside the hat and shaded nothing
-// (docs/performance.md, "Footprint hats drawn as quads"). Its size keeps the bound the sprites had, the device's largest point;
-// the flux budget (`render --flux-budget`) counts the photons that bound clamped. A photon
-// whose ray runs along its receiver takes the paper's size, which is bounded, as a square hat.
+// (docs/performance.md, "Footprint hats drawn as quads"). Its size keeps the bound the
+// sprites had, the device's largest point; the flux budget (`render --flux-budget`) counts
+// the photons that bound clamped. A photon whose ray runs along its receiver takes the
+// paper's size, which is bounded, as a square hat.
 const int MAX_PHOTONS = FOOTPRINT_MAX_SUBDIVISION * FOOTPRINT_MAX_SUBDIVISION;
 vec3 hit[MAX_PHOTONS];
 vec3 normal[MAX_PHOTONS]; // unit; zero where the light's normal map holds none

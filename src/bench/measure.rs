@@ -192,10 +192,8 @@ fn measure(
     let totals = measured.iter().map(|t| t.total_ms()).collect();
     let stage_counts = measured
         .last()
-        .map(|t| t.passes.iter().zip(&t.counts).map(|((id, _), c)| PassCounts { pass: id.name().into(), counts: *c }))
-        .into_iter()
-        .flatten()
-        .collect();
+        .map(|t| t.counted().map(|(id, counts)| PassCounts { pass: id.name().into(), counts }).collect())
+        .unwrap_or_default();
     let n = |grid: u32, subdivision: u32| (grid as u64 * subdivision as u64).pow(2);
     let caustic_subdivision = config.caustic_subdivision.unwrap_or(config.subdivision);
     let buffers = if read_buffers {

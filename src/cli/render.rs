@@ -218,7 +218,7 @@ pub(super) fn run(cli: &Cli, args: &SceneArgs) -> Result<i32> {
     }
     println!("\nmedian over {} frames:\n{}", timings.len(), headless::median_timings(&timings));
     if let Some(last) = timings.last().filter(|t| !t.counts.is_empty()) {
-        let rows = last.passes.iter().zip(&last.counts).map(|((id, _), c)| (id.name(), *c));
+        let rows = last.counted().map(|(id, c)| (id.name(), c));
         println!(
             "\nwork per pass, last frame (pipeline statistics):\n{}",
             underlight::vk::statistics::counts_table(rows)

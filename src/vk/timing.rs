@@ -48,9 +48,15 @@ impl<P: TimedPass> PassTimings<P> {
         self.passes.iter().find(|(p, _)| *p == id).map(|(_, ms)| *ms)
     }
 
+    /// Each counted pass with its work per shader stage, in recording order (none where the
+    /// timer did not count).
+    pub fn counted(&self) -> impl Iterator<Item = (P, StageCounts)> + '_ {
+        self.passes.iter().zip(&self.counts).map(|((p, _), c)| (*p, *c))
+    }
+
     /// The pass's work per shader stage, where the timer counted it.
     pub fn counts(&self, id: P) -> Option<StageCounts> {
-        self.passes.iter().zip(&self.counts).find(|((p, _), _)| *p == id).map(|(_, c)| *c)
+        self.counted().find(|(p, _)| *p == id).map(|(_, c)| c)
     }
 
     /// Sum of the passes (not the frame's wall time: gaps between passes are excluded).
@@ -122,11 +128,6 @@ impl<P: TimedPass> PassTimer<P> {
         if let Some(statistics) = &self.statistics {
             statistics.reset(cmd);
         }
-    }
-
-    /// Whether this timer counts each pass's work per stage.
-    pub fn counts_stages(&self) -> bool {
-        self.statistics.is_some()
     }
 
     /// Records one pass: label, begin timestamp, the pass itself, end timestamp.
