@@ -14,7 +14,12 @@ each estimator spreads a photon's flux h over pixels [0, 400):
 - quadratic, sampled: the same hat read the way the fragment shader reads one, at S points a
   pixel: each point's preimages in s (both roots), the tent over |dx/ds| (clamped at CLAMP
   times the photon's own 1/|d|), each hat renormalised to its flux;
-- piecewise-linear: the refracted segments with flux h each (the triangles' 1-D twin).
+- piecewise-linear: the refracted segments with flux h each (the triangles' 1-D twin);
+- three sub-hats: the tent split exactly into three tents half as wide at s = -1/2, 0, 1/2
+  (weights 1/4, 1/2, 1/4), each placed on the quadratic and spread affinely by its own
+  derivative there, read as the fragment shader reads a hat (at S points a pixel, each
+  sub-hat at least the samples' spacing wide): the quadratic hat in a form a fragment can
+  read (docs/accuracy.md, "The curved hat on the scenes").
 
 Prints each one's relative RMSE against the reference at h = 1, 2, 3 (the scenes' own sizes
 put the photons about 2 pixels apart), the mean over four random maps.
@@ -44,7 +49,7 @@ def estimates(a, k, p, h):
     s = np.linspace(-1, 1, 801)[1:-1]
     w = (1 - np.abs(s)) * h * (s[1] - s[0])
     pixels = (np.arange(WIDTH)[:, None] + (np.arange(SAMPLES) + 0.5) / SAMPLES).ravel()
-    out = {name: np.zeros(WIDTH) for name in ("affine", "quadratic, exact", "quadratic, sampled", "piecewise-linear")}
+    out = {name: np.zeros(WIDTH) for name in ("affine", "quadratic, exact", "quadratic, sampled", "piecewise-linear", "three sub-hats")}
     for i in range(1, len(u) - 1):
         d = 0.5 * (x[i + 1] - x[i - 1])
         c = x[i + 1] - 2 * x[i] + x[i - 1]
@@ -67,6 +72,11 @@ def estimates(a, k, p, h):
             if total > 0:
                 value *= h / total
             out["quadratic, sampled"] += np.bincount(q.astype(int), weights=value, minlength=WIDTH)[:WIDTH] / SAMPLES
+        for sk, weight in ((-0.5, 0.25), (0.0, 0.5), (0.5, 0.25)):
+            centre, half = x[i] + d * sk + 0.5 * c * sk * sk, max(abs(d + c * sk) / 2, 1 / SAMPLES)
+            q = pixels[np.abs(pixels - centre) < half]
+            value = weight * h * (1 - np.abs(q - centre) / half) / half / SAMPLES
+            out["three sub-hats"] += np.bincount(q.astype(int), weights=value, minlength=WIDTH)[:WIDTH]
         lo, hi = sorted((x[i], x[i + 1]))
         span = np.clip(np.minimum(hi, np.arange(WIDTH) + 1) - np.maximum(lo, np.arange(WIDTH)), 0, None)
         out["piecewise-linear"] += h * span / max(hi - lo, 1e-9) if hi - lo > 1e-9 else binned([lo], [h])
