@@ -168,10 +168,11 @@ pub mod limits {
     pub const TRIANGLE_MAX_SUBDIVISION: u32 = 3;
 
     /// Largest subdivision of the footprint points (GLSL `FOOTPRINT_MAX_SUBDIVISION`): each
-    /// photon's hat is a quad of 4 vertices of at most 15 components (with the receiver's
-    /// plane, caustics_footprint_receiver.geom), and 4 × 4² × 15 = 960 stays within the 1024
-    /// output components every geometry-shader device offers (`max_vertices = 64` in
-    /// caustics.geom).
+    /// photon's hat is a quad of 4 vertices of at most 11 components (position, irradiance,
+    /// the hat's lattice coordinates, and the receiver's plane in
+    /// caustics_footprint_receiver.geom), and 4 × 4² × 11 = 704 stays within the 1024 output
+    /// components every geometry-shader device offers (`max_vertices = 64` in caustics.geom);
+    /// 5 × 5 would take 1100.
     pub const FOOTPRINT_MAX_SUBDIVISION: u32 = 4;
 
     /// Largest godray subdivision: each photon emits a 2-vertex line of 12 components, and

@@ -570,12 +570,14 @@ pub fn footprint_hat_basis(spans: Mat2) -> Mat2 {
     spans + outer(u1, v1) * raise.x + outer(u2, v2) * raise.y
 }
 
-/// GLSL `footprint_hat_share`: the share of the hat centred on `centre` (basis inverse
-/// `to_lattice`) that the pixel centred on `pixel` takes, its mean over the pixel's samples.
-pub fn footprint_hat_share(pixel: Vec2, centre: Vec2, to_lattice: Mat2) -> f32 {
+/// GLSL `footprint_hat_share`: the share of a hat (basis inverse `to_lattice`) that a pixel
+/// whose centre lies at `lattice` on the hat's (s, t) takes, its mean over the pixel's samples.
+/// For the pixel centred on `pixel` and the hat centred on `centre`, `lattice` is
+/// `to_lattice * (pixel - centre)`.
+pub fn footprint_hat_share(lattice: Vec2, to_lattice: Mat2) -> f32 {
     let n = FOOTPRINT_HAT_SAMPLES as usize;
     let (step_x, step_y) = (to_lattice.x_axis / FOOTPRINT_HAT_SAMPLES, to_lattice.y_axis / FOOTPRINT_HAT_SAMPLES);
-    let first = to_lattice * (pixel - centre) - 0.5 * (FOOTPRINT_HAT_SAMPLES - 1.0) * (step_x + step_y);
+    let first = lattice - 0.5 * (FOOTPRINT_HAT_SAMPLES - 1.0) * (step_x + step_y);
     let mut sum = 0.0;
     for j in 0..n {
         for i in 0..n {
@@ -586,16 +588,16 @@ pub fn footprint_hat_share(pixel: Vec2, centre: Vec2, to_lattice: Mat2) -> f32 {
     sum / (FOOTPRINT_HAT_SAMPLES * FOOTPRINT_HAT_SAMPLES)
 }
 
-/// GLSL `footprint_hat_quad`: the half-edges (columns, target pixels) of the quad a footprint
-/// point's hat is drawn as, the hat's cell on the lattice of `basis` (inverse `to_lattice`)
-/// widened by `pixel_reach` times the pixel's extent in lattice units.
-pub fn footprint_hat_quad(basis: Mat2, to_lattice: Mat2, pixel_reach: f32) -> Mat2 {
+/// GLSL `footprint_hat_quad_reach`: how far along s and t the quad a footprint point's hat is
+/// drawn as reaches (its corners are the lattice points (±s, ±t)), the hat's cell |s|, |t| ≤ 1
+/// on the lattice of inverse basis `to_lattice` widened by `pixel_reach` times the pixel's
+/// extent in lattice units.
+pub fn footprint_hat_quad_reach(to_lattice: Mat2, pixel_reach: f32) -> Vec2 {
     let pixel_extent = Vec2::new(
         to_lattice.x_axis.x.abs() + to_lattice.y_axis.x.abs(),
         to_lattice.x_axis.y.abs() + to_lattice.y_axis.y.abs(),
     );
-    let widen = Vec2::ONE + pixel_reach * pixel_extent;
-    Mat2::from_cols(basis.x_axis * widen.x, basis.y_axis * widen.y)
+    Vec2::ONE + pixel_reach * pixel_extent
 }
 
 /// GLSL `footprint_hat_samples_reach`: how far from its pixel's centre a footprint hat's
@@ -1180,7 +1182,8 @@ mod tests {
                     }
                     for p in pixels_in(c, basis) {
                         let key = (p.x as i32, p.y as i32);
-                        *image.entry(key).or_default() += per_share * footprint_hat_share(p, c, to_lattice);
+                        *image.entry(key).or_default() +=
+                            per_share * footprint_hat_share(to_lattice * (p - c), to_lattice);
                     }
                     // The build before: a rectangle of the footprint's area and its extents'
                     // aspect, each axis a tent of its side integrated over the pixel.
@@ -1235,7 +1238,7 @@ mod tests {
         }
     }
 
-    /// The quad caustics.geom draws a hat as (footprint_hat_quad) holds every pixel the hat's
+    /// The quad caustics.geom draws a hat as (footprint_hat_quad_reach) holds every pixel the hat's
     /// samples reach, and is a fraction of the square sprite the hat was drawn as before where
     /// the hat is a long oblique sliver (docs/performance.md, "Footprint hats drawn as quads").
     #[test]
@@ -1247,17 +1250,18 @@ mod tests {
         for (n, (spans, angle)) in HAT_LATTICES.into_iter().chain([sliver]).enumerate() {
             let basis = footprint_hat_basis(Mat2::from_angle(angle) * spans);
             let to_lattice = basis.inverse();
-            let quad = footprint_hat_quad(basis, to_lattice, reach);
-            let to_quad = quad.inverse();
+            let quad_reach = footprint_hat_quad_reach(to_lattice, reach);
+            let quad = Mat2::from_cols(basis.x_axis * quad_reach.x, basis.y_axis * quad_reach.y);
             let extent = basis.x_axis.abs() + basis.y_axis.abs();
             for centre in [Vec2::new(20.5, 20.5), Vec2::new(20.13, 20.71), Vec2::new(20.9, 20.02)] {
                 let (mut lit, mut inside) = (0, 0);
                 for y in 0..41 {
                     for x in 0..41 {
                         let p = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
-                        let in_quad = (to_quad * (p - centre)).abs().max_element() < 1.0;
+                        let lattice = to_lattice * (p - centre);
+                        let in_quad = (lattice / quad_reach).abs().max_element() < 1.0;
                         inside += in_quad as u32;
-                        if footprint_hat_share(p, centre, to_lattice) > 0.0 {
+                        if footprint_hat_share(lattice, to_lattice) > 0.0 {
                             lit += 1;
                             assert!(in_quad, "lattice {n}: pixel {p} lit by the hat at {centre} lies outside its quad");
                         }
@@ -1296,7 +1300,8 @@ mod tests {
                 let mut total = 0.0;
                 for y in 0..40 {
                     for x in 0..40 {
-                        total += footprint_hat_share(Vec2::new(x as f32 + 0.5, y as f32 + 0.5), centre, to_lattice);
+                        let pixel = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+                        total += footprint_hat_share(to_lattice * (pixel - centre), to_lattice);
                     }
                 }
                 let ratio = total / basis.determinant().abs();

@@ -21,14 +21,14 @@ layout(location = 0) flat in vec3 g_irradiance;
 #ifdef FOOTPRINT_RECEIVER_TEST
 #include "../shared/scene_depth.glsl"
 #endif
-// The hat on the target: its centre (pixels) and the inverse of its basis, whose columns are
-// the hat's edges (footprint_hat_basis); the quad drawn for it covers its reach (caustics.geom).
+// The hat on the target: the pixel centre's place on the hat's lattice (s, t), interpolated
+// across the quad drawn for it (caustics.geom), which is a parallelogram in screen space, so
+// (s, t) is affine in the pixel and its screen derivatives are the inverse of the hat's
+// basis, whose columns are the hat's edges (footprint_hat_basis).
+layout(location = 1) noperspective in vec2 g_lattice;
 #ifdef FOOTPRINT_RECEIVER_TEST
-layout(location = 1) flat in vec4 g_centre; // z, w: its receiver's plane (caustics.geom)
-#else
-layout(location = 1) flat in vec2 g_centre;
+layout(location = 2) flat in vec2 g_receiver_plane; // its reciprocal depth and gradient (caustics.geom)
 #endif
-layout(location = 2) flat in vec4 g_to_lattice;
 #endif
 layout(location = 0) out vec4 out_irradiance;
 layout(early_fragment_tests) in;
@@ -37,12 +37,14 @@ void main() {
 #ifdef FOOTPRINT_POINTS
     // g_irradiance is the photon's light over its hat's area: the pixel's share of the hat
     // makes its part of the light.
-    float covered = footprint_hat_share(gl_FragCoord.xy, g_centre.xy, mat2(g_to_lattice.xy, g_to_lattice.zw));
+    mat2 to_lattice = mat2(dFdx(g_lattice), dFdy(g_lattice));
+    float covered = footprint_hat_share(g_lattice, to_lattice);
 #ifdef FOOTPRINT_RECEIVER_TEST
-    if (g_centre.z > 0.0) {
-        vec2 w_gradient = g_centre.z * unpackHalf2x16(floatBitsToUint(g_centre.w));
+    if (g_receiver_plane.x > 0.0) {
+        vec2 centre = gl_FragCoord.xy - inverse(to_lattice) * g_lattice; // the hat's, pixels
+        vec2 w_gradient = g_receiver_plane.x * unpackHalf2x16(floatBitsToUint(g_receiver_plane.y));
         float w_scene = 1.0 / scene_view_depth(gl_FragCoord.xy / frame.caustic_target_size);
-        if (!footprint_pixel_on_receiver(gl_FragCoord.xy, g_centre.xy, g_centre.z, w_gradient, w_scene,
+        if (!footprint_pixel_on_receiver(gl_FragCoord.xy, centre, g_receiver_plane.x, w_gradient, w_scene,
                                          frame.caustic_target_size, frame.tan_half_fov_y))
             covered = 0.0;
     }

@@ -36,18 +36,16 @@ layout(push_constant) uniform GridPush { uint grid; } pc;
 layout(location = 0) flat in uvec2 v_cell[];
 #ifdef FOOTPRINT_POINTS
 // Only the built-in block's member the quads write: the full block adds point size and clip
-// and cull distances to every vertex's component count (15 with the receiver's plane, 64
+// and cull distances to every vertex's component count (11 with the receiver's plane, 64
 // vertices within the 1024 every geometry-shader device offers: shader_abi::limits).
 out gl_PerVertex { vec4 gl_Position; };
 #endif
 layout(location = 0) flat out vec3 g_irradiance; // irradiance / E_surface per covered pixel
-#ifdef FOOTPRINT_RECEIVER_TEST
-layout(location = 1) flat out vec4 g_centre;     // xy: on the target, pixels (caustics.frag); z, w: its receiver's plane
-#elif defined(FOOTPRINT_POINTS)
-layout(location = 1) flat out vec2 g_centre;     // on the target, pixels (caustics.frag)
-#endif
 #ifdef FOOTPRINT_POINTS
-layout(location = 2) flat out vec4 g_to_lattice; // its hat's inverse basis, columns: pixels to the hat's (s, t)
+layout(location = 1) noperspective out vec2 g_lattice; // the hat's (s, t) at the vertex (caustics.frag)
+#endif
+#ifdef FOOTPRINT_RECEIVER_TEST
+layout(location = 2) flat out vec2 g_receiver_plane; // its receiver's plane (caustics.frag)
 #endif
 
 #ifdef FOOTPRINT_POINTS
@@ -289,23 +287,30 @@ void main() {
             tested = footprint_receiver_plane(target_span(clip, t1), target_span(clip, t2), dw1, dw2, w_centre,
                                               w_gradient);
         }
-        vec4 hat_centre = vec4(centre, tested ? w_centre : -1.0, uintBitsToFloat(packHalf2x16(w_gradient)));
-#else
-        vec2 hat_centre = centre;
+        vec2 receiver_plane = vec2(tested ? w_centre : -1.0, uintBitsToFloat(packHalf2x16(w_gradient)));
 #endif
         mat2 to_lattice = inverse(basis);
         // The quad: every pixel one of whose samples lies on the hat (|s|, |t| < 1) has its
         // centre within the samples' reach of it, at most that reach times the pixel's extent
-        // along s and t further out in lattice units (footprint_hat_quad). In NDC at w = 1, the
-        // sprite's one depth at every corner.
-        mat2 corners = footprint_hat_quad(basis, to_lattice, samples_reach);
+        // along s and t further out in lattice units (footprint_hat_quad_reach). In NDC at
+        // w = 1, the sprite's one depth at every corner. Each corner carries its (s, t), which
+        // the rasteriser interpolates to every pixel's centre: the fragments read the hat's
+        // inverse basis as that coordinate's screen derivatives, so a vertex carries 9
+        // components (11 with the receiver's plane) where the hat's centre and inverse basis
+        // made 13 (15): the geometry stage's output, which a GPU holds on chip, a third
+        // smaller for the same buffers (docs/performance.md, "The hats' lattice coordinates
+        // interpolated").
+        vec2 reach_st = footprint_hat_quad_reach(to_lattice, samples_reach);
         float depth = max(nearest, 0.0);
         for (int c = 0; c < 4; ++c) {
-            vec2 corner = centre + ((c & 1) == 0 ? -corners[0] : corners[0]) + ((c & 2) == 0 ? -corners[1] : corners[1]);
+            vec2 st = vec2((c & 1) == 0 ? -reach_st.x : reach_st.x, (c & 2) == 0 ? -reach_st.y : reach_st.y);
+            vec2 corner = centre + basis * st;
             gl_Position = vec4(corner / frame.caustic_target_size * 2.0 - 1.0, depth, 1.0);
             g_irradiance = irradiance;
-            g_centre = hat_centre;
-            g_to_lattice = vec4(to_lattice[0], to_lattice[1]);
+            g_lattice = st;
+#ifdef FOOTPRINT_RECEIVER_TEST
+            g_receiver_plane = receiver_plane;
+#endif
             EmitVertex();
         }
         EndPrimitive();

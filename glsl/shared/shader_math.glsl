@@ -466,12 +466,14 @@ mat2 footprint_hat_basis(mat2 spans) {
     return spans + raise.x * outerProduct(u1, v1) + raise.y * outerProduct(u2, v2);
 }
 
-// The pixel centred on `pixel`'s share of the hat centred on `centre` with `to_lattice` the
-// inverse of its basis: the hat's mean over the pixel's samples. Over every pixel the shares
-// sum to about the hat's area, |det basis| pixels.
-float footprint_hat_share(vec2 pixel, vec2 centre, mat2 to_lattice) {
+// The share of a hat with `to_lattice` the inverse of its basis that the pixel whose centre
+// lies at `lattice` on the hat's (s, t) takes: the hat's mean over the pixel's samples. Over
+// every pixel the shares sum to about the hat's area, |det basis| pixels. (For the pixel
+// centred on p and the hat centred on c, `lattice` is to_lattice · (p − c); caustics.frag
+// interpolates it across the hat's quad and reads `to_lattice` as its screen derivatives.)
+float footprint_hat_share(vec2 lattice, mat2 to_lattice) {
     vec2 step_x = to_lattice[0] / FOOTPRINT_HAT_SAMPLES, step_y = to_lattice[1] / FOOTPRINT_HAT_SAMPLES;
-    vec2 first = to_lattice * (pixel - centre) - 0.5 * (FOOTPRINT_HAT_SAMPLES - 1.0) * (step_x + step_y);
+    vec2 first = lattice - 0.5 * (FOOTPRINT_HAT_SAMPLES - 1.0) * (step_x + step_y);
     float sum = 0.0;
     for (int j = 0; j < int(FOOTPRINT_HAT_SAMPLES); ++j) {
         for (int i = 0; i < int(FOOTPRINT_HAT_SAMPLES); ++i) {
@@ -488,16 +490,16 @@ float footprint_hat_samples_reach() {
     return 0.5 - 0.5 / FOOTPRINT_HAT_SAMPLES;
 }
 
-// The quad a footprint point's hat is drawn as: its half-edges (columns, target pixels; the
-// corners are the hat's centre ± each). The hat's cell, |s|, |t| ≤ 1 on the lattice of
-// `basis` (inverse `to_lattice`), widened along s and t by `pixel_reach` (how far a pixel's
+// How far along s and t the quad a footprint point's hat is drawn as reaches: its corners are
+// the lattice points (±s, ±t), the hat's centre plus its basis times each. The hat's cell,
+// |s|, |t| ≤ 1 on the lattice of inverse basis `to_lattice`, widened along s and t by
+// `pixel_reach` (how far a pixel's
 // samples lie from its centre along each pixel axis, pixels) times the pixel's extent in
 // lattice units: a sample q within that reach of a pixel's centre p has s(p) = s(q) + ∂s·(p − q),
 // so every pixel one of whose samples lies on the hat has its centre inside the quad.
-mat2 footprint_hat_quad(mat2 basis, mat2 to_lattice, float pixel_reach) {
+vec2 footprint_hat_quad_reach(mat2 to_lattice, float pixel_reach) {
     vec2 pixel_extent = vec2(abs(to_lattice[0].x) + abs(to_lattice[1].x), abs(to_lattice[0].y) + abs(to_lattice[1].y));
-    vec2 widen = 1.0 + pixel_reach * pixel_extent;
-    return mat2(basis[0] * widen.x, basis[1] * widen.y);
+    return 1.0 + pixel_reach * pixel_extent;
 }
 
 // Whether the pixel centred on `pixel` shows the receiver of the footprint point whose hat is
