@@ -181,9 +181,12 @@ impl FramePlan {
                     .collect::<Vec<_>>()
                     .join(" and "),
                 if caustics && !filters_caustics {
-                    "; not the caustic buffer, which the triangle estimator draws without splat noise"
+                    format!(
+                        "; not the caustic buffer, which the {} estimator draws without splat noise",
+                        scene.effects.caustic_estimator.name()
+                    )
                 } else {
-                    ""
+                    String::new()
                 }
             )
         };
