@@ -182,8 +182,10 @@ bool converged(vec3 hit, vec3 receiver, vec3 receiver_normal, vec3 light_to_hit,
 // the texels' own steps), and p lies on a receiver's plane within the allowance a photon's
 // hit has across its receiver (across_allowance). The second, steeper maps are not read: the light
 // they place lies within that reach of the first maps' (they bend by about the waves' tilt),
-// and each texel read costs: the test as it stands costs 25 ms of the tank's caustic pass at
-// 800×800 on lavapipe, of which the four reads around p are half (docs/performance.md).
+// and each texel read costs: the test cost 25 ms of the tank's caustic pass at 800×800 on
+// lavapipe, of which the four reads around p were half, when every pixel read them
+// (docs/accuracy.md, "Hats held out of the shadows"); since, only a pixel its own texel does
+// not place pays for them and for the waves' reach.
 bool light_could_land(vec3 p) {
     ivec2 texel;
     if (!light_texel(p, false, texel)) return false;
@@ -192,17 +194,21 @@ bool light_could_land(vec3 p) {
     float texel_size = map_texel_size(p, false);
     float across_allowed = across_allowance(texel_size, below);
     vec4 caster = map_receiver(texel, false);
+    // Most of what the light reaches lies on the receiver its own texel stores: tested first,
+    // so that only the rest pays for the waves' reach (water_deviation_bound: five
+    // refractions) and the four texels that far away.
+    if (caster.w > 0.0 && off_receiver(p, caster.xyz, map_normal(texel, false)) <= across_allowed) return true;
     float way = caster.w > 0.0 ? min(below, length(p - caster.xyz)) : below;
     // The light's direction before the water: a point light's towards p, which it only nears.
     vec3 falling = frame.light_is_point > 0.0 ? normalize(p - frame.light_position) : frame.light_axis;
     float deviation = water_deviation_bound(frame_water(), falling);
     int reach = int(clamp(round(deviation * way / texel_size), 1.0, frame.light_map_size));
     ivec2 last = ivec2(frame.light_map_size) - 1;
-    const ivec2 around[5] = ivec2[5](ivec2(0), ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1));
+    const ivec2 around[4] = ivec2[4](ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1));
     bool lands = false;
-    for (int k = 0; k < 5; ++k) {
+    for (int k = 0; k < 4; ++k) {
         ivec2 t = clamp(texel + reach * around[k], ivec2(0), last);
-        vec4 receiver = k == 0 ? caster : map_receiver(t, false);
+        vec4 receiver = map_receiver(t, false);
         lands = receiver.w > 0.0 && off_receiver(p, receiver.xyz, map_normal(t, false)) <= across_allowed;
         if (lands) break;
     }

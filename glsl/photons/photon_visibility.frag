@@ -41,8 +41,10 @@ bool on_silhouette(vec2 uv, float w) {
 void main() {
     float tolerance = VISIBILITY_TARGET == VISIBILITY_GODRAYS ? GODRAY_DEPTH_TOLERANCE : CAUSTIC_DEPTH_TOLERANCE;
     float scene_z = scene_view_depth(v_uv);
-    bool lit = VISIBILITY_TARGET != VISIBILITY_CAUSTICS_LIT || on_silhouette(v_uv, 1.0 / scene_z)
-            || light_could_land(scene_world_point(v_uv));
+    // The shadow test before the silhouette's four depth reads, which only a pixel in shadow
+    // needs: the same answer, the cheaper question first.
+    bool lit = VISIBILITY_TARGET != VISIBILITY_CAUSTICS_LIT || light_could_land(scene_world_point(v_uv))
+            || on_silhouette(v_uv, 1.0 / scene_z);
     // Depth 0, the near plane, holds every splat off the pixel (one nearer is clipped).
     gl_FragDepth = lit ? depth_of_view_depth(farthest_visible(scene_z, tolerance)) : 0.0;
 }
