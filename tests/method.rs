@@ -266,6 +266,16 @@ fn plan_skips_what_the_scene_does_not_need() {
     let mut unfiltered = scene.clone();
     unfiltered.effects.filter = false;
     assert!(!FramePlan::for_scene(&unfiltered).runs(PassId::Filter));
+    // The filter smooths the caustic buffer of the paper's points only, and says which
+    // estimator's buffer it leaves (it named the triangles for every estimator).
+    for estimator in [CausticEstimator::Paper, CausticEstimator::Footprint, CausticEstimator::Triangles] {
+        let mut drawn = scene.clone();
+        drawn.effects.caustic_estimator = estimator;
+        let plan = FramePlan::for_scene(&drawn);
+        assert_eq!(plan.filters_caustics, estimator == CausticEstimator::Paper, "{plan}");
+        let leaves = format!("not the caustic buffer, which the {} estimator draws", estimator.name());
+        assert_eq!(plan.to_string().contains(&leaves), estimator != CausticEstimator::Paper, "{plan}");
+    }
     let mut dry = scene.clone();
     dry.water.level = -10.0; // everything above the water
     let plan = FramePlan::for_scene(&dry);
