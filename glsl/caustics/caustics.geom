@@ -45,7 +45,7 @@ layout(location = 0) flat out vec3 g_irradiance; // irradiance / E_surface per c
 layout(location = 1) noperspective out vec2 g_lattice; // the hat's (s, t) at the vertex (caustics.frag)
 #endif
 #ifdef FOOTPRINT_RECEIVER_TEST
-layout(location = 2) flat out vec2 g_receiver_plane; // its receiver's plane (caustics.frag)
+layout(location = 2) flat out vec2 g_receiver_plane; // its receiver's plane: 1 / view depth at the photon (< 0: no test), its gradient as two halves
 #endif
 
 #ifdef FOOTPRINT_POINTS

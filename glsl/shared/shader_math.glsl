@@ -493,10 +493,10 @@ float footprint_hat_samples_reach() {
 // How far along s and t the quad a footprint point's hat is drawn as reaches: its corners are
 // the lattice points (±s, ±t), the hat's centre plus its basis times each. The hat's cell,
 // |s|, |t| ≤ 1 on the lattice of inverse basis `to_lattice`, widened along s and t by
-// `pixel_reach` (how far a pixel's
-// samples lie from its centre along each pixel axis, pixels) times the pixel's extent in
-// lattice units: a sample q within that reach of a pixel's centre p has s(p) = s(q) + ∂s·(p − q),
-// so every pixel one of whose samples lies on the hat has its centre inside the quad.
+// `pixel_reach` (how far a pixel's samples lie from its centre along each pixel axis, pixels)
+// times the pixel's extent in lattice units: a sample q within that reach of a pixel's centre
+// p has s(p) = s(q) + ∂s·(p − q), so every pixel one of whose samples lies on the hat has its
+// centre inside the quad.
 vec2 footprint_hat_quad_reach(mat2 to_lattice, float pixel_reach) {
     vec2 pixel_extent = vec2(abs(to_lattice[0].x) + abs(to_lattice[1].x), abs(to_lattice[0].y) + abs(to_lattice[1].y));
     return 1.0 + pixel_reach * pixel_extent;
