@@ -205,14 +205,12 @@ bool light_could_land(vec3 p) {
     int reach = int(clamp(round(deviation * way / texel_size), 1.0, frame.light_map_size));
     ivec2 last = ivec2(frame.light_map_size) - 1;
     const ivec2 around[4] = ivec2[4](ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1));
-    bool lands = false;
     for (int k = 0; k < 4; ++k) {
         ivec2 t = clamp(texel + reach * around[k], ivec2(0), last);
         vec4 receiver = map_receiver(t, false);
-        lands = receiver.w > 0.0 && off_receiver(p, receiver.xyz, map_normal(t, false)) <= across_allowed;
-        if (lands) break;
+        if (receiver.w > 0.0 && off_receiver(p, receiver.xyz, map_normal(t, false)) <= across_allowed) return true;
     }
-    return lands;
+    return false;
 }
 
 // Moves the iteration's estimate `hit` (`dist` along the refracted ray from `ps`) onto the
