@@ -275,6 +275,9 @@ void main() {
         // two directions on the plane; a negative depth where the fragments take no test. A hat
         // whose four neighbours all landed on its receiver spans that receiver and takes none
         // (the same figures as testing every hat: docs/accuracy.md, "Hats on their own receiver").
+        // Only neighbours inside the invocation say so (those across the coarse cell's border
+        // are cast onto the photon's own plane), so at 3 × 3 only the middle photon's hat can
+        // skip the test (docs/performance.md, "Where the footprint points' pass goes").
         float w_centre = 1.0 / clip.w;
         vec2 w_gradient = vec2(0.0);
         bool tested = normal[k] != vec3(0.0) && !interior;
