@@ -31,6 +31,16 @@ fn bad_command_lines_are_named_errors() {
         (vec!["render".into(), "--look-at".into(), "0,nan,1".into()], "--look-at takes three finite numbers"),
         (vec!["render".into(), "--camera".into(), "1,x,3".into()], "--camera"),
         (vec!["render".into(), "--camera=0,1,0".into(), "--look-at=0,1,0".into()], "the same point"),
+        // The photon grid from the command line is held to a scene file's ranges.
+        (vec!["render".into(), "--caustic-grid".into(), "0".into()], "effects.caustic_grid = 0 is out of range"),
+        (
+            vec!["render".into(), "--caustic-subdivision".into(), "1".into()],
+            "caustic_estimator = \"footprint\": must be >= 2",
+        ),
+        (
+            vec!["render".into(), "--caustic-estimator=triangles".into(), "--caustic-subdivision=4".into()],
+            "caustic_estimator = \"triangles\": must be <= 3",
+        ),
         (vec!["view".into(), "--sweep".into(), "/nonexistent/sweep.json".into()], "--sweep /nonexistent/sweep.json"),
         (vec!["tune".into(), "--max-error=0".into()], "--max-error 0: must be a positive number"),
         (vec!["render".into(), "--time=nan".into()], "--time <TIME>': must be a finite number of seconds"),
@@ -177,26 +187,45 @@ fn tune_picks_a_setting_or_says_how_close_it_came() {
 fn render_prints_each_pass_s_work() {
     let dir = std::env::temp_dir().join(format!("underlight-statistics-{}", std::process::id()));
     let out = dir.join("out.png");
-    let o = Command::new(env!("CARGO_BIN_EXE_underlight"))
-        .args(["render", "--width", "64", "--height", "40", "--frames", "1", "--pipeline-statistics", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&o.stdout);
-    assert!(o.status.success(), "{stdout}{}", String::from_utf8_lossy(&o.stderr));
-    let table = stdout.split("work per pass, last frame (pipeline statistics):").nth(1).expect("no statistics table");
-    let header: Vec<&str> = table.lines().nth(1).unwrap().split_whitespace().collect();
-    assert_eq!(header, ["pass", "VS", "GS", "GS", "prims", "clip", "prims", "FS", "CS"]);
-    let row: Vec<u64> = table
-        .lines()
-        .find(|l| l.starts_with("caustics"))
-        .expect("no caustics row")
-        .split_whitespace()
-        .skip(1)
-        .map(|v| v.parse().unwrap())
-        .collect();
+    // The caustic pass's row of the statistics table, with the table for messages.
+    let caustics_row = |settings: &[&str]| -> (Vec<u64>, String) {
+        let o = Command::new(env!("CARGO_BIN_EXE_underlight"))
+            .args(["render", "--width", "64", "--height", "40", "--frames", "1", "--pipeline-statistics"])
+            .args(settings)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&o.stdout).into_owned();
+        assert!(o.status.success(), "{settings:?}: {stdout}{}", String::from_utf8_lossy(&o.stderr));
+        let table =
+            stdout.split("work per pass, last frame (pipeline statistics):").nth(1).expect("no statistics table");
+        let header: Vec<&str> = table.lines().nth(1).unwrap().split_whitespace().collect();
+        assert_eq!(header, ["pass", "VS", "GS", "GS", "prims", "clip", "prims", "FS", "CS"]);
+        let row = table
+            .lines()
+            .find(|l| l.starts_with("caustics"))
+            .expect("no caustics row")
+            .split_whitespace()
+            .skip(1)
+            .map(|v| v.parse().unwrap())
+            .collect();
+        (row, stdout)
+    };
     let grid = underlight::scene::load("tank").unwrap().effects.caustic_grid as u64;
+    let (row, table) = caustics_row(&[]);
     assert_eq!(row[1], grid * grid, "geometry-shader invocations: {table}");
     assert!(row[2] > 0 && row[4] > 0, "primitives emitted and fragments shaded: {table}");
+    // The command line's photon grid replaces the scene's: one invocation per coarse cell,
+    // and fewer hats emitted from 24² × 2² photons than from the scene's.
+    let (coarse, coarse_table) = caustics_row(&["--caustic-grid", "24", "--caustic-subdivision", "2"]);
+    assert_eq!(coarse[1], 24 * 24, "geometry-shader invocations at --caustic-grid 24: {coarse_table}");
+    assert!(coarse_table.contains("caustics 24² × 2² photons"), "{coarse_table}");
+    assert!(
+        coarse[2] > 0 && coarse[2] < row[2],
+        "primitives emitted at 24² × 2² against {grid}² × the scene's subdivision: {} / {}",
+        coarse[2],
+        row[2]
+    );
     std::fs::remove_dir_all(&dir).ok();
 }

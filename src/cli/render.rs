@@ -5,7 +5,7 @@ use super::{
     caustic_estimator, context_desc, effect_png_exposure, finish, godray_method, output_side, photon_spread,
     prepare_outputs, Cli,
 };
-use anyhow::{bail, Result};
+use anyhow::{bail, Context as _, Result};
 use std::path::PathBuf;
 use underlight::headless;
 use underlight::image_io;
@@ -76,6 +76,15 @@ pub(super) struct SceneArgs {
     /// (beams as wide as their cross-sections) or marched (a ray march, directional lights).
     #[arg(long, value_name = "NAME", value_parser = godray_method)]
     godray_method: Option<underlight::scene::GodrayMethod>,
+    /// Cast the caustic photons on this coarse grid (cells per axis) instead of the scene's
+    /// `effects.caustic_grid`: the photons are its square times the subdivision's, so the
+    /// caustic's accuracy and its pass's cost follow it (docs/accuracy.md).
+    #[arg(long, value_name = "N")]
+    caustic_grid: Option<u32>,
+    /// Subdivide each coarse cell into this many photons per axis in the geometry shader
+    /// instead of the scene's `effects.caustic_subdivision`.
+    #[arg(long, value_name = "N")]
+    caustic_subdivision: Option<u32>,
 }
 
 /// `--hdr-format`.
@@ -113,9 +122,18 @@ pub(super) fn run(cli: &Cli, args: &SceneArgs) -> Result<i32> {
     if let Some(method) = args.godray_method {
         scene.effects.godray_method = method;
     }
+    if let Some(grid) = args.caustic_grid {
+        scene.effects.caustic_grid = grid;
+    }
+    if let Some(subdivision) = args.caustic_subdivision {
+        scene.effects.caustic_subdivision = subdivision;
+    }
     if scene.camera.position.distance(scene.camera.look_at) < 1e-6 {
         bail!("--camera and --look-at give the same point: the camera needs a direction to look in");
     }
+    // The settings above are checked as a scene file's fields are (the ranges live there),
+    // before a device is opened, so a bad value is a named error and not a failed frame.
+    scene.validate().context("the scene with the command line's settings")?;
     let width = args.width.unwrap_or(scene.output[0]);
     let height = args.height.unwrap_or(scene.output[1]);
     prepare_outputs([&args.out])?;
