@@ -66,8 +66,18 @@ fn gpu_check_quick_writes_its_json_and_markdown() {
         assert!(row["godrays"]["relative_rmse"].as_f64().unwrap() < 0.3, "{}", row["godrays"]);
     }
 
+    // Issue 16's own-size step: its configurations benched on the port itself (the tiny one
+    // here), each with a caustic pass that took time.
+    let own_size = doc["own_size"]["port"]["report"]["results"].as_array().unwrap();
+    assert_eq!(own_size.len(), 1, "{}", doc["own_size"]);
+    assert_eq!(own_size[0]["config"]["name"], "tiny");
+    let caustics = own_size[0]["passes"].as_array().unwrap().iter().find(|p| p["pass"] == "caustics").unwrap();
+    assert!(caustics["median_ms"].as_f64().unwrap() > 0.0, "{}", own_size[0]);
+
     let markdown = std::fs::read_to_string(out.join("gpu-check.md")).unwrap();
-    for heading in ["# GPU check", "## Per-pass GPU time", "## Accuracy: tank"] {
+    for heading in
+        ["# GPU check", "## Per-pass GPU time", "## Issue 16's photons at the own size: port", "## Accuracy: tank"]
+    {
         assert!(markdown.contains(heading), "gpu-check.md lacks {heading:?}:\n{markdown}");
     }
     std::fs::remove_dir_all(&out).ok();

@@ -16,8 +16,10 @@ pub(super) struct BenchArgs {
     /// until the footprint points), footprint-points-800 (the footprint-sized points as the
     /// scenes ship them), receiver-800 (those with the receiver test), refined-800,
     /// marched-800 and footprint-800 (triangles-800 refined, with ray-marched godrays, with
-    /// footprint-sized beams), above-800 (paper-800 seen from above the water), tiny; or
-    /// "paper" for the paper's four.
+    /// footprint-sized beams), triangles-1440, footprint-points-1440, footprint-points-200-1440
+    /// and footprint-points-225-1440 (triangles-800, footprint-points-800 and the latter at
+    /// 200² and 225² × 3² photons, at the port's and the storage's 1440×850), above-800
+    /// (paper-800 seen from above the water), tiny; or "paper" for the paper's four.
     #[arg(long, default_value = "paper")]
     config: String,
     /// Measured frames per configuration.
