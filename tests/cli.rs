@@ -33,6 +33,7 @@ fn bad_command_lines_are_named_errors() {
         (vec!["render".into(), "--camera=0,1,0".into(), "--look-at=0,1,0".into()], "the same point"),
         // The photon grid from the command line is held to a scene file's ranges.
         (vec!["render".into(), "--caustic-grid".into(), "0".into()], "effects.caustic_grid = 0 is out of range"),
+        (vec!["view".into(), "--caustic-grid".into(), "5000".into()], "effects.caustic_grid = 5000 is out of range"),
         (
             vec!["render".into(), "--caustic-subdivision".into(), "1".into()],
             "caustic_estimator = \"footprint\": must be >= 2",

@@ -156,6 +156,28 @@ fn viewer_sessions_under_xvfb() {
     // missing pass or a time mismatch moves the mean by tens.
     assert!(mean < 0.05 && far == 0.0, "viewer and headless images differ: mean {mean}, far {far}");
 
+    // The effect settings given on the command line reach the viewer as they reach `render`:
+    // the same image with another estimator and photon grid than the scene's. A flag the
+    // viewer ignored would show the scene's footprint points at 165² × 3² against the
+    // triangles at 24² × 2².
+    let settings = ["--caustic-estimator", "triangles", "--caustic-grid", "24", "--caustic-subdivision", "2"];
+    let (viewed, rendered) = (dir.join("viewer-settings.png"), dir.join("headless-settings.png"));
+    let v = viewed.to_str().unwrap();
+    under_xvfb(
+        &[&["view"][..], &common[..], &settings[..], &["--paused", "--frames", "2", "--screenshot", v][..]].concat(),
+    );
+    let status = Command::new(EXE)
+        .args(["--validation", "render"])
+        .args(common)
+        .args(settings)
+        .args(["--frames", "1", "--out", rendered.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(status.status.success(), "{}", String::from_utf8_lossy(&status.stderr));
+    let with_settings = png_rgba(&rendered);
+    assert_eq!(png_rgba(&viewed).2, with_settings.2, "the viewer's image with the command line's settings");
+    assert_ne!(with_settings.2, b.2, "24² × 2² triangles render as the scene's footprint points");
+
     // 3. A line width beyond any device's range is drawn clamped, and the viewer says so.
     let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
     let port = std::fs::read_to_string(scenes.join("port.toml")).unwrap();

@@ -4,6 +4,7 @@
 mod bench;
 mod devices;
 mod edges;
+mod effect_overrides;
 mod grid_splat;
 mod reference;
 mod render;

@@ -1,11 +1,8 @@
 //! `underlight render`: a scene rendered headless to a PNG (and HDR dumps), with per-pass GPU
 //! times and, on request, the photons' flux budget.
 
-use super::{
-    caustic_estimator, context_desc, effect_png_exposure, finish, godray_method, output_side, photon_spread,
-    prepare_outputs, Cli,
-};
-use anyhow::{bail, Context as _, Result};
+use super::{context_desc, effect_png_exposure, finish, output_side, prepare_outputs, Cli};
+use anyhow::{bail, Result};
 use std::path::PathBuf;
 use underlight::headless;
 use underlight::image_io;
@@ -59,32 +56,8 @@ pub(super) struct SceneArgs {
     /// Point the camera at this point instead of the scene's look_at.
     #[arg(long, value_name = "X,Y,Z", value_delimiter = ',', allow_hyphen_values = true)]
     look_at: Option<Vec<f32>>,
-    /// Turn photons into irradiance with this estimator instead of the scene's: paper
-    /// (distance-sized points), footprint (footprint-sized points) or triangles (warped-cell
-    /// triangles).
-    #[arg(long, value_name = "NAME", value_parser = caustic_estimator)]
-    caustic_estimator: Option<underlight::scene::CausticEstimator>,
-    /// Spread the caustic photons this way instead of the scene's: even (the paper's grid) or
-    /// view (as many per receiver area as the pixels that see it).
-    #[arg(long, value_name = "NAME", value_parser = photon_spread)]
-    caustic_photon_density: Option<underlight::scene::PhotonSpread>,
-    /// Spread the godray beams this way instead of the scene's: even or view (in proportion to
-    /// the view rays' length through the water above where they enter).
-    #[arg(long, value_name = "NAME", value_parser = photon_spread)]
-    godray_photon_density: Option<underlight::scene::PhotonSpread>,
-    /// Draw the godrays this way instead of the scene's: beams (the paper's lines), footprint
-    /// (beams as wide as their cross-sections) or marched (a ray march, directional lights).
-    #[arg(long, value_name = "NAME", value_parser = godray_method)]
-    godray_method: Option<underlight::scene::GodrayMethod>,
-    /// Cast the caustic photons on this coarse grid (cells per axis) instead of the scene's
-    /// `effects.caustic_grid`: the photons are its square times the subdivision's, so the
-    /// caustic's accuracy and its pass's cost follow it (docs/accuracy.md).
-    #[arg(long, value_name = "N")]
-    caustic_grid: Option<u32>,
-    /// Subdivide each coarse cell into this many photons per axis in the geometry shader
-    /// instead of the scene's `effects.caustic_subdivision`.
-    #[arg(long, value_name = "N")]
-    caustic_subdivision: Option<u32>,
+    #[command(flatten)]
+    effects: super::effect_overrides::EffectOverrides,
 }
 
 /// `--hdr-format`.
@@ -110,30 +83,11 @@ pub(super) fn run(cli: &Cli, args: &SceneArgs) -> Result<i32> {
     if let Some(p) = point("look-at", &args.look_at)? {
         scene.camera.look_at = p;
     }
-    if let Some(estimator) = args.caustic_estimator {
-        scene.effects.caustic_estimator = estimator;
-    }
-    if let Some(density) = args.caustic_photon_density {
-        scene.effects.caustic_photon_density = density;
-    }
-    if let Some(density) = args.godray_photon_density {
-        scene.effects.godray_photon_density = density;
-    }
-    if let Some(method) = args.godray_method {
-        scene.effects.godray_method = method;
-    }
-    if let Some(grid) = args.caustic_grid {
-        scene.effects.caustic_grid = grid;
-    }
-    if let Some(subdivision) = args.caustic_subdivision {
-        scene.effects.caustic_subdivision = subdivision;
-    }
+    args.effects.apply(&mut scene);
     if scene.camera.position.distance(scene.camera.look_at) < 1e-6 {
         bail!("--camera and --look-at give the same point: the camera needs a direction to look in");
     }
-    // The settings above are checked as a scene file's fields are (the ranges live there),
-    // before a device is opened, so a bad value is a named error and not a failed frame.
-    scene.validate().context("the scene with the command line's settings")?;
+    super::effect_overrides::check(&scene)?;
     let width = args.width.unwrap_or(scene.output[0]);
     let height = args.height.unwrap_or(scene.output[1]);
     prepare_outputs([&args.out])?;

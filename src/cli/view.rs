@@ -41,12 +41,17 @@ pub(super) struct ViewArgs {
     /// for the swept setting nearest to the current one. Default: out/sweep/sweep.json if present.
     #[arg(long, value_name = "FILE")]
     sweep: Option<PathBuf>,
+    // The viewer starts with these and returns to them with L (the default preset).
+    #[command(flatten)]
+    effects: super::effect_overrides::EffectOverrides,
 }
 
 pub(super) fn run(cli: &Cli, args: &ViewArgs) -> Result<i32> {
     use underlight::viewer::{self, script, ViewerOptions};
     use underlight::vk::swapchain::PresentMode;
-    let scene = underlight::scene::load(&args.scene)?;
+    let mut scene = underlight::scene::load(&args.scene)?;
+    args.effects.apply(&mut scene);
+    super::effect_overrides::check(&scene)?;
     if args.explain {
         println!(
             "passes for scene {:?} in the viewer:\n{}",
