@@ -1,6 +1,7 @@
 //! The named benchmark configurations (`--config`): the paper's table, the ones added beside
-//! it (triangles-800, refined-800, marched-800, above-800) and a tiny one for smoke tests, and how a configuration is
-//! applied to a scene.
+//! it (triangles-800, footprint-points-800, the receiver test, refined-800, the godray
+//! methods, the own-size ones at 1440×850, above-800) and a tiny one for smoke tests, and how
+//! a configuration is applied to a scene.
 
 use crate::scene::{CausticEstimator, GodrayMethod, PhotonSpread, Scene};
 use serde::Serialize;
@@ -132,9 +133,9 @@ pub fn configs() -> Vec<BenchConfig> {
         // Not in the paper: issue 16's open choice at the port's and the storage's own size
         // (1440×850), where the shipped 165² × 3² misses the caustic RMSE target, 200² × 3² is
         // the fewest photons that meet it and 225² × 3² meets it with room (docs/accuracy.md,
-        // "Where the shipped settings stand"): those, and the triangles' 100² × 3² whose cost
-        // the shipped settings were held to, in one run on one device (`bench --scene port`,
-        // scripts/gpu-check.sh).
+        // "The fewest photons that meet the own sizes"): those, and the triangles' 100² × 3²
+        // whose cost the shipped settings were held to, in one run on one device (`bench
+        // --scene port`, scripts/gpu-check.sh).
         BenchConfig { name: "triangles-1440", width: 1440, height: 850, ..triangles },
         BenchConfig { name: "footprint-points-1440", width: 1440, height: 850, ..footprint_points.clone() },
         BenchConfig {
@@ -250,8 +251,8 @@ mod tests {
         let refined = c.iter().find(|c| c.name == "refined-800").unwrap().apply(&tank);
         assert!(refined.effects.caustic_refinement);
         assert_eq!(refined.effects, Effects { caustic_refinement: true, ..triangles.effects });
-        // The own-size configurations are the shipped footprint points (and 200², 225² of them) and
-        // triangles-800 at the port's and the storage's size, nothing else changed.
+        // The own-size configurations are the shipped footprint points (and 200², 225² of
+        // them) and triangles-800 at the port's and the storage's size, nothing else changed.
         let at_1440 = |name: &str| c.iter().find(|c| c.name == name).unwrap().apply(&tank);
         let footprint_1440 = at_1440("footprint-points-1440");
         assert_eq!(footprint_1440.output, [1440, 850]);
