@@ -71,6 +71,7 @@ fn gpu_check_quick_writes_its_json_and_markdown() {
     let own_size = doc["own_size"]["port"]["report"]["results"].as_array().unwrap();
     assert_eq!(own_size.len(), 1, "{}", doc["own_size"]);
     assert_eq!(own_size[0]["config"]["name"], "tiny");
+    assert_eq!(own_size[0]["scene"], "port", "the own-size step benched another scene than the port");
     let caustics = own_size[0]["passes"].as_array().unwrap().iter().find(|p| p["pass"] == "caustics").unwrap();
     assert!(caustics["median_ms"].as_f64().unwrap() > 0.0, "{}", own_size[0]);
 
